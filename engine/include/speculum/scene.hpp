@@ -1,0 +1,170 @@
+// The engine's scene: what a glTF file holds, in the form the renderer and the reference use.
+// Loading validates everything (DESIGN.md section 5); errors throw speculum::Error with
+// ExitCode::BadInput and a message that names the file and the problem.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace speculum {
+
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec4 tangent;  // xyz tangent, w handedness; generated (MikkTSpace-like) when missing
+    glm::vec2 uv;
+};
+
+struct Primitive {
+    std::vector<Vertex> vertices;
+    std::vector<uint32_t> indices;  // triangle list, always present (generated when absent)
+    int material = -1;              // -1: the default material
+    glm::vec3 boundsMin{0.0f};
+    glm::vec3 boundsMax{0.0f};
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<Primitive> primitives;
+};
+
+// Decoded texture image: RGBA8, straight from the file (colour space is the sampler's business).
+struct Image {
+    std::string name;    // uri or image name, for messages
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<uint8_t> rgba8;
+    bool placeholder = false;  // true when the file was missing/unreadable and a default was used
+};
+
+struct TextureRef {
+    int image = -1;  // index into Scene::images; -1: none
+    int texCoord = 0;
+    float scale = 1.0f;  // normal map scale
+};
+
+enum class ReflectionMode : uint8_t { Off, ScreenSpace, ProbesOnly, LocalCubemapOnly };
+
+// SPECULUM_reflections on a material.
+struct MaterialReflections {
+    ReflectionMode mode = ReflectionMode::ScreenSpace;
+    float roughnessScale = 1.0f;
+    std::optional<float> roughnessOverride;
+    float maxScreenSpaceRoughness = 0.6f;
+    bool traceCmos = true;
+    bool mirrorForSelfReflections = false;
+    friend bool operator==(const MaterialReflections&, const MaterialReflections&) = default;
+};
+
+struct Material {
+    std::string name;
+    glm::vec4 baseColor{1.0f};
+    float metallic = 1.0f;
+    float roughness = 1.0f;
+    glm::vec3 emissive{0.0f};
+    float emissiveStrength = 1.0f;  // KHR_materials_emissive_strength
+    TextureRef baseColorTexture;
+    TextureRef metallicRoughnessTexture;
+    TextureRef normalTexture;
+    TextureRef emissiveTexture;
+    bool unlit = false;        // KHR_materials_unlit: output is base colour, exactly
+    bool doubleSided = false;
+    std::optional<MaterialReflections> reflections;  // SPECULUM_reflections
+};
+
+enum class LightType : uint8_t { Directional, Point, Spot };
+
+struct Light {  // KHR_lights_punctual, resolved to world space
+    std::string name;
+    LightType type = LightType::Point;
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f;  // 0: infinite
+    float innerConeAngle = 0.0f;
+    float outerConeAngle = 0.785398f;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};  // direction the light travels
+};
+
+struct Camera {  // resolved to world space
+    std::string name;
+    bool perspective = true;
+    float yfov = 0.8f;        // radians
+    float aspectRatio = 0.0f; // 0: use the viewport's
+    float znear = 0.05f;
+    float zfar = 0.0f;        // 0: infinite (the renderer uses reversed-Z, infinite far)
+    float xmag = 1.0f, ymag = 1.0f;
+    glm::mat4 world{1.0f};    // camera-to-world; looks down -Z, +Y up
+};
+
+enum class ProbeShape : uint8_t { Box, Sphere };
+enum class ProbeKind : uint8_t { LocalCubemap, Cmo };
+enum class ProbeUpdate : uint8_t { Once, OnDemand, EveryFrame, TimeSliced };
+
+// SPECULUM_reflection_probe on a node.
+struct ReflectionProbe {
+    ProbeKind kind = ProbeKind::LocalCubemap;
+    ProbeShape shape = ProbeShape::Box;
+    glm::vec3 extents{1.0f};  // box half-extents, or radius in x for spheres
+    float blendDistance = 0.5f;
+    uint32_t resolution = 128;
+    ProbeUpdate update = ProbeUpdate::Once;
+    int order = 0;
+    friend bool operator==(const ReflectionProbe&, const ReflectionProbe&) = default;
+};
+
+struct Node {
+    std::string name;
+    int parent = -1;
+    std::vector<int> children;
+    glm::vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 scale{1.0f};
+    std::optional<glm::mat4> matrix;  // when the file gives a matrix instead of TRS
+    int mesh = -1;
+    int camera = -1;  // index into the glTF cameras
+    int light = -1;   // index into the glTF lights
+    std::optional<ReflectionProbe> probe;
+    glm::mat4 world{1.0f};  // resolved
+};
+
+// A mesh placed in the world: what the renderer draws.
+struct Instance {
+    int node = -1;
+    int mesh = -1;
+    glm::mat4 world{1.0f};
+};
+
+struct Scene {
+    std::filesystem::path path;
+    std::vector<Node> nodes;
+    std::vector<int> roots;
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Image> images;
+    std::vector<Instance> instances;  // flattened, world transforms applied
+    std::vector<Light> lights;        // flattened to world space (one per light node)
+    std::vector<Camera> cameras;      // flattened to world space (one per camera node), named by node or camera name
+    glm::vec3 boundsMin{0.0f};        // world bounds of all instances
+    glm::vec3 boundsMax{0.0f};
+    // The original document, so that save() keeps what we did not understand.
+    nlohmann::json document;
+
+    const Camera* findCamera(const std::string& name) const;
+};
+
+// Loads .gltf or .glb. Throws Error(ExitCode::BadInput, "<file>: <problem>").
+Scene loadScene(const std::filesystem::path& path);
+// Writes .gltf (with a .bin beside it) or .glb; keeps unknown extensions and extras; writes the
+// SPECULUM_* extensions from the typed structs. Writes to a temporary file, then renames.
+void saveScene(const Scene& scene, const std::filesystem::path& path);
+
+}  // namespace speculum
