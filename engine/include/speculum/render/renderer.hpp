@@ -1,0 +1,99 @@
+// The deferred renderer: G-buffer, shadow map for one directional light, GGX + Lambert lighting
+// with image-based ambient, tonemapping. It adds its passes to a frame graph and returns typed
+// handles, like every module.
+#pragma once
+
+#include "speculum/framegraph.hpp"
+#include "speculum/gpu/pipeline.hpp"
+#include "speculum/gpu/resources.hpp"
+#include "speculum/render/environment.hpp"
+#include "speculum/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <optional>
+
+namespace speculum::render {
+
+// G-buffer and output formats; fixed so that modules and tests can rely on them.
+inline constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;              // reversed-Z, 1 = near
+inline constexpr VkFormat kAlbedoFormat = VK_FORMAT_R8G8B8A8_UNORM;         // rgb albedo, a metallic
+inline constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;    // xyz world normal, w roughness
+inline constexpr VkFormat kEmissiveFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // rgb emissive, a material flags
+inline constexpr VkFormat kMotionFormat = VK_FORMAT_R16G16_SFLOAT;          // uv(now) - uv(previous frame)
+inline constexpr VkFormat kLinearFormat = VK_FORMAT_R16G16B16A16_SFLOAT;    // HDR linear colour
+inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;          // tonemapped, sRGB-encoded
+
+// Material flag bits stored in emissive.a.
+inline constexpr uint32_t kFlagUnlit = 1;
+inline constexpr uint32_t kFlagReflective = 2;  // has SPECULUM_reflections mode != off
+
+// Everything a pass needs to know about the view. Projection is reversed-Z with an infinite far
+// plane; pixel (x, y) has its centre at ((x + 0.5) / w, (y + 0.5) / h) in UV, y down.
+struct CameraState {
+    glm::mat4 view{1.0f};
+    glm::mat4 proj{1.0f};
+    glm::mat4 viewProj{1.0f};
+    glm::mat4 invViewProj{1.0f};
+    glm::vec3 position{0.0f};
+    float yfov = 1.0f;
+    float znear = 0.05f;
+    uint32_t width = 1;
+    uint32_t height = 1;
+};
+CameraState makeCamera(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfovRadians, uint32_t width,
+                       uint32_t height, float znear = 0.05f);
+CameraState makeCamera(const Camera& camera, uint32_t width, uint32_t height);
+// Frames the scene's bounds from a fixed diagonal direction.
+CameraState frameBounds(const Scene& scene, uint32_t width, uint32_t height);
+// World-space ray through the centre of pixel (x, y): the same convention as the rasterizer.
+void primaryRay(const CameraState& camera, float px, float py, glm::vec3& origin, glm::vec3& direction);
+
+struct RendererOptions {
+    uint32_t shadowMapSize = 2048;
+    float exposure = 1.0f;
+    EnvironmentOptions environment;
+};
+
+struct FrameInputs {
+    CameraState camera;
+    CameraState previousCamera;  // same as camera on the first frame
+};
+
+// The handles the renderer's passes produce. `lit` is the lit HDR image before reflections are
+// composited; modules add to it and hand the result to tonemap().
+struct GBuffer {
+    TextureHandle depth;
+    TextureHandle albedo;
+    TextureHandle normal;
+    TextureHandle emissive;
+    TextureHandle motion;
+};
+
+class Renderer {
+public:
+    // Uploads meshes, textures and the environment named by the scene's extras (or a grey sky).
+    Renderer(const gpu::Context& ctx, const Scene& scene, const RendererOptions& options = {});
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // render.shadow + render.gbuffer
+    GBuffer addGBufferPasses(FrameGraph& graph, const FrameInputs& frame);
+    // render.lighting: punctual lights (GGX + Lambert), shadows, IBL ambient, sky, emissive.
+    TextureHandle addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer);
+    // render.tonemap: exposure, ACES fit, sRGB encode into an RGBA8 image.
+    TextureHandle addTonemapPass(FrameGraph& graph, TextureHandle linear);
+
+    const Environment& environment() const;
+    const Scene& scene() const;
+    RendererOptions& options();
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace speculum::render
