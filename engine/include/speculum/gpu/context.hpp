@@ -101,6 +101,7 @@ private:
     std::string name_;
     bool validation_ = false;
     bool debugUtils_ = false;
+    PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
 };
 
 // Lists the devices Vulkan sees, as "name (type)" lines; for --device help and error messages.

@@ -20,7 +20,6 @@ public:
     VkBuffer get() const { return buffer_; }
     VkDeviceSize size() const { return size_; }
     void* mapped() const { return mapped_; }
-    VkDeviceAddress address() const;
 
 private:
     Unique<VkBuffer> buffer_;

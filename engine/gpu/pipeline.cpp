@@ -1,0 +1,190 @@
+#include "speculum/gpu/pipeline.hpp"
+
+#include "speculum/core.hpp"
+#include "speculum/scene.hpp"
+
+#include <cstddef>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+namespace speculum::gpu {
+
+std::string shaderDir() {
+    // SPECULUM_SHADER_DIR in the environment lets an installed or relocated binary find its SPIR-V.
+    if (const char* dir = std::getenv("SPECULUM_SHADER_DIR"); dir && *dir) return dir;
+    return SPECULUM_SHADER_DIR;
+}
+
+Unique<VkShaderModule> loadShader(const Context& ctx, const std::string& name) {
+    std::string path = shaderDir() + "/" + name + ".spv";
+    std::ifstream file(path, std::ios::binary);
+    if (!file)
+        throw Error(ExitCode::Failure, "shader " + path + " is missing: build the project (cmake --build build)");
+    std::vector<char> code((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.size();
+    info.pCode = reinterpret_cast<const uint32_t*>(code.data());
+    VkShaderModule module;
+    check(vkCreateShaderModule(ctx.device(), &info, nullptr, &module), ("vkCreateShaderModule " + name).c_str());
+    return {ctx.device(), module, vkDestroyShaderModule};
+}
+
+PipelineLayout::PipelineLayout(const Context& ctx, const std::vector<Binding>& bindings, uint32_t pushConstantBytes,
+                               VkShaderStageFlags pushStages) {
+    std::vector<VkDescriptorSetLayoutBinding> b;
+    for (const Binding& x : bindings) b.push_back({x.binding, x.type, x.count, x.stages, nullptr});
+    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    setInfo.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    setInfo.bindingCount = static_cast<uint32_t>(b.size());
+    setInfo.pBindings = b.data();
+    VkDescriptorSetLayout set;
+    check(vkCreateDescriptorSetLayout(ctx.device(), &setInfo, nullptr, &set), "vkCreateDescriptorSetLayout");
+    setLayout_ = Unique<VkDescriptorSetLayout>(ctx.device(), set, vkDestroyDescriptorSetLayout);
+
+    VkPushConstantRange range{pushStages, 0, pushConstantBytes};
+    VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    info.setLayoutCount = 1;
+    info.pSetLayouts = &set;
+    info.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
+    info.pPushConstantRanges = &range;
+    VkPipelineLayout layout;
+    check(vkCreatePipelineLayout(ctx.device(), &info, nullptr, &layout), "vkCreatePipelineLayout");
+    layout_ = Unique<VkPipelineLayout>(ctx.device(), layout, vkDestroyPipelineLayout);
+}
+
+Pipeline createComputePipeline(const Context& ctx, const std::string& shader, const std::vector<Binding>& bindings,
+                               uint32_t pushConstantBytes, const std::string& name) {
+    PipelineLayout layout(ctx, bindings, pushConstantBytes, VK_SHADER_STAGE_COMPUTE_BIT);
+    Unique<VkShaderModule> module = loadShader(ctx, shader);
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.layout = layout.get();
+    VkPipeline p;
+    check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p),
+          ("vkCreateComputePipelines " + name).c_str());
+    ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(p), name);
+    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline), std::move(layout), VK_PIPELINE_BIND_POINT_COMPUTE};
+}
+
+Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& d) {
+    PipelineLayout layout(ctx, d.bindings, d.pushConstantBytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    Unique<VkShaderModule> vs = loadShader(ctx, d.vertexShader);
+    Unique<VkShaderModule> fs;
+    std::vector<VkPipelineShaderStageCreateInfo> stages(1, {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO});
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vs;
+    stages[0].pName = "main";
+    if (!d.fragmentShader.empty()) {
+        fs = loadShader(ctx, d.fragmentShader);
+        VkPipelineShaderStageCreateInfo f{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        f.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+        f.module = fs;
+        f.pName = "main";
+        stages.push_back(f);
+    }
+
+    VkVertexInputBindingDescription vb{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription attrs[] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
+        {2, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)},
+        {3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)},
+    };
+    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    if (d.vertexInput) {
+        vi.vertexBindingDescriptionCount = 1;
+        vi.pVertexBindingDescriptions = &vb;
+        vi.vertexAttributeDescriptionCount = 4;
+        vi.pVertexAttributeDescriptions = attrs;
+    }
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = 1;
+    vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    rs.cullMode = d.cull;
+    // Projections flip Y for Vulkan's downward clip space, which turns glTF's counter-clockwise
+    // front faces clockwise on screen.
+    rs.frontFace = VK_FRONT_FACE_CLOCKWISE;
+    rs.depthBiasEnable = d.depthBias;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = d.depthTest;
+    ds.depthWriteEnable = d.depthWrite;
+    ds.depthCompareOp = d.depthCompare;
+    std::vector<VkPipelineColorBlendAttachmentState> blends(d.colorFormats.size());
+    for (auto& b : blends) b.colorWriteMask = 0xf;
+    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = static_cast<uint32_t>(blends.size());
+    cb.pAttachments = blends.data();
+    std::vector<VkDynamicState> dyn{VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    if (d.depthBias) dyn.push_back(VK_DYNAMIC_STATE_DEPTH_BIAS);
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = static_cast<uint32_t>(dyn.size());
+    dy.pDynamicStates = dyn.data();
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = static_cast<uint32_t>(d.colorFormats.size());
+    rendering.pColorAttachmentFormats = d.colorFormats.data();
+    rendering.depthAttachmentFormat = d.depthFormat;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &rendering;
+    info.stageCount = static_cast<uint32_t>(stages.size());
+    info.pStages = stages.data();
+    info.pVertexInputState = &vi;
+    info.pInputAssemblyState = &ia;
+    info.pViewportState = &vp;
+    info.pRasterizationState = &rs;
+    info.pMultisampleState = &ms;
+    info.pDepthStencilState = &ds;
+    info.pColorBlendState = &cb;
+    info.pDynamicState = &dy;
+    info.layout = layout.get();
+    VkPipeline p;
+    check(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p),
+          ("vkCreateGraphicsPipelines " + d.name).c_str());
+    ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(p), d.name);
+    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline), std::move(layout), VK_PIPELINE_BIND_POINT_GRAPHICS};
+}
+
+DescriptorWriter& DescriptorWriter::image(uint32_t binding, VkDescriptorType type, VkImageView view,
+                                          VkImageLayout layout, VkSampler sampler) {
+    entries_.push_back({binding, type, {sampler, view, layout}, {}});
+    return *this;
+}
+
+DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
+                                           VkDeviceSize offset, VkDeviceSize range) {
+    entries_.push_back({binding, type, {}, {buffer, offset, range}});
+    return *this;
+}
+
+void DescriptorWriter::push(const Context& ctx, VkCommandBuffer cmd, const Pipeline& pipeline) {
+    std::vector<VkWriteDescriptorSet> writes;
+    writes.reserve(entries_.size());
+    for (const Entry& e : entries_) {
+        VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w.dstBinding = e.binding;
+        w.descriptorCount = 1;
+        w.descriptorType = e.type;
+        bool isBuffer = e.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || e.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        if (isBuffer)
+            w.pBufferInfo = &e.buffer;
+        else
+            w.pImageInfo = &e.image;
+        writes.push_back(w);
+    }
+    ctx.cmdPushDescriptorSet(cmd, pipeline.bindPoint(), pipeline.layout(), 0, static_cast<uint32_t>(writes.size()),
+                             writes.data());
+    entries_.clear();
+}
+
+}  // namespace speculum::gpu
