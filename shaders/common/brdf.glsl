@@ -1,0 +1,80 @@
+// Shading model shared by the engine's lighting, the reflections module and the ground-truth
+// reference (which mirrors these formulas in C++): GGX normal distribution, height-correlated
+// Smith visibility, Schlick Fresnel and Lambert diffuse, in glTF's metallic-roughness
+// parameterisation. Every function is pure so that callers can evaluate lobes separately.
+#ifndef SPECULUM_BRDF_GLSL
+#define SPECULUM_BRDF_GLSL
+
+#ifndef PI
+#define PI 3.14159265358979323846
+#endif
+
+// Perceptual roughness 0 makes GGX a delta that punctual lights can never hit; this floor keeps
+// highlights finite (and matches the reference renderer's clamp).
+const float kMinRoughness = 0.045;
+// Reflectance at normal incidence of dielectrics (IOR 1.5), as glTF specifies.
+const vec3 kDielectricF0 = vec3(0.04);
+
+float clampRoughness(float perceptualRoughness) {
+    return clamp(perceptualRoughness, kMinRoughness, 1.0);
+}
+
+// alpha = perceptualRoughness^2 (glTF / Burley remapping).
+float roughnessToAlpha(float perceptualRoughness) {
+    float r = clampRoughness(perceptualRoughness);
+    return r * r;
+}
+
+// GGX / Trowbridge-Reitz normal distribution D(h).
+float D_GGX(float NoH, float alpha) {
+    float a2 = alpha * alpha;
+    float d = (NoH * a2 - NoH) * NoH + 1.0;
+    return a2 / (PI * d * d);
+}
+
+// Height-correlated Smith visibility V = G / (4 NoL NoV) (Heitz 2014), so that
+// specular = D * V * F without the 4 NoL NoV denominator.
+float V_SmithGGXCorrelated(float NoV, float NoL, float alpha) {
+    float a2 = alpha * alpha;
+    float gv = NoL * sqrt(NoV * NoV * (1.0 - a2) + a2);
+    float gl = NoV * sqrt(NoL * NoL * (1.0 - a2) + a2);
+    return 0.5 / max(gv + gl, 1e-7);
+}
+
+vec3 F_Schlick(vec3 f0, float VoH) {
+    float f = pow(1.0 - VoH, 5.0);
+    return f0 + (vec3(1.0) - f0) * f;
+}
+
+float Fd_Lambert() {
+    return 1.0 / PI;
+}
+
+// Base colour and metallic to the two lobes' colours.
+vec3 diffuseColor(vec3 baseColor, float metallic) {
+    return baseColor * (1.0 - metallic);
+}
+vec3 specularF0(vec3 baseColor, float metallic) {
+    return mix(kDielectricF0, baseColor, metallic);
+}
+
+// Full BRDF f(l, v) times cos(theta_l): multiply by the light's radiance (irradiance for
+// punctual lights) to get outgoing radiance. n, v, l are unit vectors, v and l point away
+// from the surface.
+vec3 evalBRDFCos(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
+    float NoL = dot(n, l);
+    if (NoL <= 0.0) return vec3(0.0);
+    vec3 h = normalize(v + l);
+    // Clamped so that grazing views (normal-mapped or interpolated normals facing away) stay
+    // finite instead of producing NaN.
+    float NoV = max(dot(n, v), 1e-4);
+    float NoH = clamp(dot(n, h), 0.0, 1.0);
+    float VoH = clamp(dot(v, h), 0.0, 1.0);
+    float alpha = roughnessToAlpha(perceptualRoughness);
+    vec3 F = F_Schlick(specularF0(baseColor, metallic), VoH);
+    vec3 specular = D_GGX(NoH, alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * F;
+    vec3 diffuse = diffuseColor(baseColor, metallic) * Fd_Lambert();
+    return (diffuse + specular) * NoL;
+}
+
+#endif

@@ -1,0 +1,46 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// One mip of the specular cube: the split-sum GGX prefilter (N = V = R) for one roughness,
+// with GGX importance sampling and filtered importance sampling (Krivanek & Colbert 2008,
+// Karis 2013): each sample reads the radiance cube's box mip whose texel solid angle matches
+// the sample's share of the lobe, so a few dozen samples give a smooth, alias-free result.
+#include "engine/ibl_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(set = 0, binding = 0) uniform samplerCube radiance;  // all box mips
+layout(set = 0, binding = 1, rgba16f) writeonly uniform imageCube target;
+
+layout(push_constant) uniform Push {
+    uint size;         // face size of the target mip
+    uint samples;
+    float alpha;       // GGX alpha = roughness^2
+    uint sourceSize;   // face size of radiance mip 0
+    float sourceMips;  // radiance mip count
+} pc;
+
+void main() {
+    uvec3 texel = gl_GlobalInvocationID;
+    if (texel.x >= pc.size || texel.y >= pc.size) return;
+    vec3 n = cubeTexelDirection(texel, pc.size);
+    mat3 frame = tangentFrame(n);
+    // Solid angle of one source texel (the cube-face average, as in Karis 2013).
+    float texelSolidAngle = 4.0 * PI / (6.0 * float(pc.sourceSize * pc.sourceSize));
+
+    vec3 sum = vec3(0.0);
+    float weight = 0.0;
+    for (uint i = 0u; i < pc.samples; ++i) {
+        vec3 h = importanceSampleGGX(hammersley(i, pc.samples), pc.alpha);
+        // With N = V: NdotH = VdotH = h.z, and L = 2 (V.H) H - V in tangent space.
+        vec3 l = 2.0 * h.z * h - vec3(0.0, 0.0, 1.0);
+        float NdotL = l.z;
+        if (NdotL <= 0.0) continue;
+        // pdf(L) = D * NdotH / (4 VdotH) = D / 4 for N = V.
+        float pdf = D_GGX(h.z, pc.alpha) * 0.25;
+        float sampleSolidAngle = 1.0 / (float(pc.samples) * pdf + 1e-6);
+        float lod = clamp(0.5 * log2(sampleSolidAngle / texelSolidAngle) + 1.0, 0.0, pc.sourceMips - 1.0);
+        sum += textureLod(radiance, frame * l, lod).rgb * NdotL;
+        weight += NdotL;
+    }
+    imageStore(target, ivec3(texel), vec4(sum / max(weight, 1e-6), 1.0));
+}

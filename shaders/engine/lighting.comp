@@ -1,0 +1,132 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// render.lighting: one thread per pixel reads the G-buffer and writes HDR radiance.
+#include "common/brdf.glsl"
+#include "common/camera.glsl"
+#include "common/sh.glsl"
+#include "engine/lighting_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 0) uniform sampler2D depthTex;     // D32 reversed-Z, texelFetch only
+layout(set = 0, binding = 1) uniform sampler2D albedoTex;
+layout(set = 0, binding = 2) uniform sampler2D normalTex;
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
+layout(set = 0, binding = 4) uniform sampler2D shadowTex;    // D32, texelFetch only
+layout(set = 0, binding = 5) uniform samplerCube envSpecular;
+layout(set = 0, binding = 6) uniform sampler2D envDFG;
+layout(set = 0, binding = 7, std430) readonly buffer SceneLightingBuffer {
+    SceneLighting scene;
+};
+layout(set = 0, binding = 8, rgba16f) uniform writeonly image2D outLinear;
+
+layout(push_constant) uniform LightingConstants {
+    mat4 invViewProj;
+    vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
+    uvec4 size;           // xy output size
+} pc;
+
+// 3x3 percentage-closer filter with nearest compares: lavapipe cannot linearly filter D32,
+// and this keeps the result identical on every device.
+float shadowVisibility(vec3 position, vec3 normal) {
+    vec3 p = position + normal * scene.shadowParams.z;
+    vec4 clip = scene.shadowViewProj * vec4(p, 1.0);
+    vec2 uv = ndcToUV(clip.xy / clip.w);
+    float depth = clip.z / clip.w;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || depth > 1.0) return 1.0;
+    int size = int(scene.shadowParams.x);
+    ivec2 center = ivec2(uv * float(size));
+    float bias = scene.shadowParams.y;
+    float lit = 0.0;
+    for (int y = -1; y <= 1; ++y) {
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 t = clamp(center + ivec2(x, y), ivec2(0), ivec2(size - 1));
+            // Reversed-Z: a larger stored depth is nearer the light, i.e. an occluder.
+            lit += (depth + bias >= texelFetch(shadowTex, t, 0).r) ? 1.0 : 0.0;
+        }
+    }
+    return lit * (1.0 / 9.0);
+}
+
+// Radiance arriving from one punctual light (glTF KHR_lights_punctual falloffs); l is set to
+// the unit direction towards the light.
+vec3 incidentRadiance(GpuLight light, vec3 position, out vec3 l) {
+    uint type = uint(light.positionType.w);
+    if (type == kLightDirectional) {
+        l = -light.directionRange.xyz;
+        return light.radiance.rgb;
+    }
+    vec3 toLight = light.positionType.xyz - position;
+    float d2 = max(dot(toLight, toLight), 1e-8);
+    l = toLight * inversesqrt(d2);
+    float attenuation = 1.0 / d2;
+    float range = light.directionRange.w;
+    if (range > 0.0) {
+        float ratio2 = d2 / (range * range);
+        float window = clamp(1.0 - ratio2 * ratio2, 0.0, 1.0);
+        attenuation *= window * window;
+    }
+    if (type == kLightSpot) {
+        float cd = dot(light.directionRange.xyz, -l);
+        float a = clamp(cd * light.cone.x + light.cone.y, 0.0, 1.0);
+        attenuation *= a * a;
+    }
+    return light.radiance.rgb * attenuation;
+}
+
+// Image-based specular ambient (split-sum: GGX-prefiltered environment times the DFG scale and
+// bias). The reflections module replaces exactly this term for reflective pixels.
+vec3 iblSpecularAmbient(vec3 n, vec3 v, float perceptualRoughness, vec3 f0) {
+    vec3 r = reflect(-v, n);
+    float NoV = clamp(dot(n, v), 0.0, 1.0);
+    vec3 prefiltered = textureLod(envSpecular, r, perceptualRoughness * pc.cameraPosition.w).rgb;
+    vec2 dfg = textureLod(envDFG, vec2(NoV, perceptualRoughness), 0.0).rg;
+    return prefiltered * (f0 * dfg.x + dfg.y);
+}
+
+vec3 iblDiffuseAmbient(vec3 n, vec3 diffuse) {
+    return diffuse * evalSH9(scene.sh, n);
+}
+
+vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
+    vec4 emissive = texelFetch(emissiveTex, pixel, 0);
+    uint flags = uint(emissive.a);
+    if ((flags & 1u) != 0u) return emissive.rgb;  // unlit: the base colour, untouched
+
+    vec4 albedo = texelFetch(albedoTex, pixel, 0);
+    vec4 normalRough = texelFetch(normalTex, pixel, 0);
+    vec3 n = normalize(normalRough.xyz);
+    float roughness = normalRough.w;
+    vec3 baseColor = albedo.rgb;
+    float metallic = albedo.a;
+    vec3 position = worldFromDepth(uv, depth, pc.invViewProj);
+    vec3 v = -viewRayDirection(uv, pc.invViewProj);
+
+    vec3 color = emissive.rgb;
+    uint count = min(scene.counts.x, kMaxLights);
+    for (uint i = 0u; i < count; ++i) {
+        vec3 l;
+        vec3 radiance = incidentRadiance(scene.lights[i], position, l);
+        vec3 f = evalBRDFCos(n, v, l, baseColor, metallic, roughness);
+        if (all(equal(f, vec3(0.0)))) continue;
+        if (scene.lights[i].radiance.w > 0.0) f *= shadowVisibility(position, n);
+        color += f * radiance;
+    }
+    color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));
+    color += iblSpecularAmbient(n, v, roughness, specularF0(baseColor, metallic));
+    return color;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), pc.size.xy))) return;
+    vec2 uv = pixelCenterUV(pixel, ivec2(pc.size.xy));
+    float depth = texelFetch(depthTex, pixel, 0).r;
+    vec3 color;
+    if (depth <= 0.0) {
+        color = textureLod(envSpecular, viewRayDirection(uv, pc.invViewProj), 0.0).rgb;
+    } else {
+        color = shadeSurface(pixel, uv, depth);
+    }
+    imageStore(outLinear, pixel, vec4(color, 1.0));
+}
