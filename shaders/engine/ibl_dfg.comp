@@ -8,7 +8,9 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(set = 0, binding = 0, rg16f) writeonly uniform image2D dfg;
+// No format qualifier: rg16f storage needs shaderStorageImageExtendedFormats, while writing
+// without a format (shaderStorageImageWriteWithoutFormat) is enabled wherever supported.
+layout(set = 0, binding = 0) writeonly uniform image2D dfg;
 
 layout(push_constant) uniform Push {
     uint size;
