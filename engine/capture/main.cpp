@@ -1,1 +1,210 @@
-int main() { return 1; }
+// speculum-capture: headless renders of a scene to EXR/PNG AOVs plus timings.json.
+// Contract: DESIGN.md section 6. Exit 0 done, 2 bad arguments, 3 bad scene or settings,
+// 4 no usable Vulkan device.
+#include "speculum/app/output.hpp"
+
+#include "speculum/app/camera_path.hpp"
+#include "speculum/app/engine_settings.hpp"
+#include "speculum/app/frame_runner.hpp"
+#include "speculum/core.hpp"
+#include "speculum/gpu/resources.hpp"
+#include "speculum/render/renderer.hpp"
+#include "speculum/scene.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace speculum;
+
+namespace {
+
+struct Options {
+    std::string scene, camera, eye, target, up = "0,1,0", size = "960x540", path, settingsFile, out, device;
+    std::string aov = "color";
+    float fov = 60.0f;
+    int frames = 1;
+    int warmup = 3;
+    std::vector<std::string> sets;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+glm::vec3 parseVec3(const std::string& s, const char* flag) {
+    auto parts = splitList(s);
+    glm::vec3 v;
+    if (parts.size() != 3) throw argumentError(std::string(flag) + " needs X,Y,Z, got '" + s + "'");
+    for (int i = 0; i < 3; ++i) {
+        try {
+            size_t used = 0;
+            v[i] = std::stof(parts[size_t(i)], &used);
+            if (used != parts[size_t(i)].size()) throw std::invalid_argument("trailing");
+        } catch (const std::exception&) {
+            throw argumentError(std::string(flag) + " needs three numbers X,Y,Z, got '" + s + "'");
+        }
+    }
+    return v;
+}
+
+std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
+    unsigned w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+        throw argumentError("--size needs WxH (e.g. 960x540), got '" + s + "'");
+    if (w == 0 || h == 0) throw argumentError("--size " + s + " is empty: width and height must be at least 1");
+    return {w, h};
+}
+
+std::vector<std::string> parseAovs(const std::string& list) {
+    auto aovs = splitList(list);
+    if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, depth, normal, roughness, motion");
+    for (const std::string& a : aovs) {
+        const auto& now = app::availableAovs();
+        const auto& later = app::futureAovs();
+        if (std::find(later.begin(), later.end(), a) != later.end())
+            throw argumentError("AOV '" + a + "' comes with the reflections module, which this build does not have yet");
+        if (std::find(now.begin(), now.end(), a) == now.end())
+            throw argumentError("unknown AOV '" + a + "' (known: linear, color, depth, normal, roughness, motion)");
+    }
+    return aovs;
+}
+
+// One camera per output frame.
+std::vector<app::CameraPose> cameraPoses(const Options& o, const Scene& scene, uint32_t w, uint32_t h,
+                                         std::optional<render::CameraState>& fixed) {
+    if (!o.path.empty()) return app::loadCameraPath(o.path);
+    if (!o.camera.empty()) {
+        const Camera* cam = scene.findCamera(o.camera);
+        if (!cam) {
+            std::string names;
+            for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
+            throw argumentError("scene " + o.scene + " has no camera named '" + o.camera + "' (cameras: " +
+                                (names.empty() ? "none" : names) + ")");
+        }
+        fixed = render::makeCamera(*cam, w, h);
+    } else if (!o.eye.empty() || !o.target.empty()) {
+        if (o.eye.empty() || o.target.empty()) throw argumentError("--eye and --target go together");
+        app::CameraPose pose{parseVec3(o.eye, "--eye"), parseVec3(o.target, "--target"), parseVec3(o.up, "--up"), o.fov};
+        if (glm::length(pose.target - pose.eye) < 1e-6f) throw argumentError("--eye and --target are the same point");
+        if (!(o.fov > 1.0f && o.fov < 179.0f)) throw argumentError("--fov must be in 1..179 degrees");
+        return std::vector<app::CameraPose>(size_t(o.frames), pose);
+    } else {
+        fixed = render::frameBounds(scene, w, h);
+    }
+    return std::vector<app::CameraPose>(size_t(o.frames));
+}
+
+render::CameraState stateFor(const app::CameraPose& p, const std::optional<render::CameraState>& fixed, uint32_t w,
+                             uint32_t h) {
+    if (fixed) return *fixed;
+    return render::makeCamera(p.eye, p.target, p.up, glm::radians(p.fovDeg), w, h);
+}
+
+int run(const Options& o) {
+    if (o.out.empty()) throw argumentError("--out DIR is required");
+    if (o.scene.empty()) throw argumentError("--scene FILE is required");
+    if (o.frames < 1 || o.frames > 100000) throw argumentError("--frames must be in 1..100000");
+    if (o.warmup < 0 || o.warmup > 1000) throw argumentError("--warmup must be in 0..1000");
+    auto [w, h] = parseSize(o.size);
+    std::vector<std::string> aovs = parseAovs(o.aov);
+
+    Settings settings(app::engineSettingsTable());
+    if (!o.settingsFile.empty()) settings.load(o.settingsFile);
+    for (const std::string& kv : o.sets) settings.assign(kv);
+
+    Scene scene = loadScene(o.scene);
+    std::optional<render::CameraState> fixed;
+    std::vector<app::CameraPose> poses = cameraPoses(o, scene, w, h, fixed);
+
+    gpu::Context ctx(gpu::ContextOptions{.deviceName = o.device});
+    uint32_t maxDim = ctx.properties().limits.maxImageDimension2D;
+    if (w > maxDim || h > maxDim)
+        throw argumentError("--size " + o.size + " exceeds the device limit of " + std::to_string(maxDim) + " pixels (" +
+                            ctx.deviceName() + ")");
+
+    render::RendererOptions ro;
+    app::applyRenderSettings(settings, ro);
+    render::Renderer renderer(ctx, scene, ro);
+    app::FrameRunner runner(ctx, renderer, w, h);
+    fs::create_directories(o.out);
+
+    // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.
+    render::FrameInputs frame;
+    frame.camera = frame.previousCamera = stateFor(poses.front(), fixed, w, h);
+    for (int i = 0; i < o.warmup; ++i) runner.render(frame, {});
+
+    app::TimingLog timings;
+    bool writeEvery = !o.path.empty();
+    for (size_t i = 0; i < poses.size(); ++i) {
+        frame.previousCamera = frame.camera;
+        frame.camera = stateFor(poses[i], fixed, w, h);
+        if (i == 0) frame.previousCamera = frame.camera;
+        bool write = writeEvery || i + 1 == poses.size();
+        app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{});
+        timings.add(result);
+        if (write)
+            for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);
+        if (poses.size() > 1) app::progress("capture", i + 1, poses.size());
+    }
+    app::writeText(fs::path(o.out) / "graph.dot", runner.graphDot());
+    app::writeText(fs::path(o.out) / "graph.json", runner.graphJson().dump(2));
+    app::writeText(fs::path(o.out) / "timings.json",
+                       timings.toJson(ctx.deviceName(), w, h, gpu::persistentBytes()).dump(2));
+    std::cout << timings.summary() << std::flush;
+    if (ctx.validationEnabled() && gpu::Context::validationMessageCount() > 0) {
+        logError(std::to_string(gpu::Context::validationMessageCount()) + " Vulkan validation messages");
+        return static_cast<int>(ExitCode::Failure);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App cli{"speculum-capture: render a glTF scene headless to EXR/PNG AOVs and timings.json"};
+    cli.add_option("--scene", o.scene, "glTF scene (.gltf or .glb)");
+    cli.add_option("--camera", o.camera, "camera by glTF name");
+    cli.add_option("--eye", o.eye, "camera position X,Y,Z");
+    cli.add_option("--target", o.target, "point looked at X,Y,Z");
+    cli.add_option("--up", o.up, "up vector X,Y,Z (default 0,1,0)");
+    cli.add_option("--fov", o.fov, "vertical field of view in degrees (with --eye)");
+    cli.add_option("--size", o.size, "image size WxH (default 960x540)");
+    cli.add_option("--frames", o.frames, "frames to render and time (default 1)");
+    cli.add_option("--warmup", o.warmup, "untimed frames first (default 3)");
+    cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
+    cli.add_option("--settings", o.settingsFile, "JSON settings file");
+    cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable)");
+    cli.add_option("--aov", o.aov, "comma list: linear,color,depth,normal,roughness,motion (default color)");
+    cli.add_option("--out", o.out, "output directory");
+    cli.add_option("--device", o.device, "Vulkan device name (substring)");
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "speculum-capture: " << e.what() << " (see --help)\n";
+        return static_cast<int>(ExitCode::BadArguments);
+    }
+    try {
+        return run(o);
+    } catch (const Error& e) {
+        std::cerr << "speculum-capture: " << e.what() << "\n";
+        return static_cast<int>(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "speculum-capture: internal error: " << e.what() << "\n";
+        return static_cast<int>(ExitCode::Failure);
+    }
+}

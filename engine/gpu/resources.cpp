@@ -3,10 +3,13 @@
 #include "speculum/core.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 namespace speculum::gpu {
 namespace {
+
+std::atomic<uint64_t> gPersistentBytes{0};
 
 Unique<VkDeviceMemory> allocate(const Context& ctx, const VkMemoryRequirements& req, VkMemoryPropertyFlags flags) {
     VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -70,6 +73,18 @@ FormatLayout layoutOf(VkFormat f) {
 
 }  // namespace
 
+uint64_t persistentBytes() { return gPersistentBytes.load(); }
+
+AllocationCounter::AllocationCounter(uint64_t bytes) : bytes_(bytes) { gPersistentBytes += bytes; }
+AllocationCounter& AllocationCounter::operator=(AllocationCounter&& o) noexcept {
+    if (this != &o) {
+        gPersistentBytes -= bytes_;
+        bytes_ = std::exchange(o.bytes_, 0);
+    }
+    return *this;
+}
+AllocationCounter::~AllocationCounter() { gPersistentBytes -= bytes_; }
+
 size_t bytesPerPixel(VkFormat format) {
     FormatLayout l = layoutOf(format);
     if (l.channels == 0) throw Error(ExitCode::Failure, "bytesPerPixel: unsupported format " + std::to_string(format));
@@ -92,6 +107,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, 
                                       ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                       : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
     memory_ = allocate(ctx, req, flags);
+    counter_ = AllocationCounter(req.size);
     check(vkBindBufferMemory(ctx.device(), b, memory_, 0), "vkBindBufferMemory");
     if (hostVisible) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
     ctx.setName(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(b), name);
@@ -120,6 +136,7 @@ Image::Image(const Context& ctx, const ImageDesc& desc, const std::string& name)
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(ctx.device(), img, &req);
     memory_ = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    counter_ = AllocationCounter(req.size);
     check(vkBindImageMemory(ctx.device(), img, memory_, 0), "vkBindImageMemory");
     ctx.setName(VK_OBJECT_TYPE_IMAGE, reinterpret_cast<uint64_t>(img), name);
 
@@ -221,8 +238,6 @@ void uploadImage(const Context& ctx, const Image& image, std::span<const std::by
 
 std::vector<float> readImageRGBA(const Context& ctx, VkImage image, const ImageDesc& desc, VkImageLayout layout,
                                  uint32_t mip, uint32_t layer) {
-    FormatLayout fl = layoutOf(desc.format);
-    if (fl.channels == 0) throw Error(ExitCode::Failure, "readImageRGBA: unsupported format");
     uint32_t w = std::max(1u, desc.width >> mip), h = std::max(1u, desc.height >> mip);
     size_t bpp = bytesPerPixel(desc.format);
     Buffer staging(ctx, VkDeviceSize(w) * h * bpp, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "gpu.readback");
@@ -235,9 +250,16 @@ std::vector<float> readImageRGBA(const Context& ctx, VkImage image, const ImageD
         vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.get(), 1, &copy);
         transition(cmd, image, aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, mip, 1, layer, 1);
     });
-    std::vector<float> out(size_t(w) * h * 4, 0.0f);
-    const auto* bytes = static_cast<const uint8_t*>(staging.mapped());
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
+    return decodeRGBA(desc.format, staging.mapped(), size_t(w) * h);
+}
+
+std::vector<float> decodeRGBA(VkFormat format, const void* data, size_t pixelCount) {
+    FormatLayout fl = layoutOf(format);
+    if (fl.channels == 0) throw Error(ExitCode::Failure, "decodeRGBA: unsupported format");
+    size_t bpp = bytesPerPixel(format);
+    std::vector<float> out(pixelCount * 4, 0.0f);
+    const auto* bytes = static_cast<const uint8_t*>(data);
+    for (size_t i = 0; i < pixelCount; ++i) {
         for (int c = 0; c < fl.channels; ++c) {
             const uint8_t* p = bytes + i * bpp;
             float v;

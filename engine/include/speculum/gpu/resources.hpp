@@ -11,6 +11,23 @@
 
 namespace speculum::gpu {
 
+// Bytes of device memory held by live Buffers and Images (persistent resources; the frame
+// graph's transient heap is reported separately).
+uint64_t persistentBytes();
+
+// Adds its size to persistentBytes() for as long as it lives.
+class AllocationCounter {
+public:
+    AllocationCounter() = default;
+    explicit AllocationCounter(uint64_t bytes);
+    AllocationCounter(AllocationCounter&& o) noexcept : bytes_(std::exchange(o.bytes_, 0)) {}
+    AllocationCounter& operator=(AllocationCounter&& o) noexcept;
+    ~AllocationCounter();
+
+private:
+    uint64_t bytes_ = 0;
+};
+
 class Buffer {
 public:
     Buffer() = default;
@@ -24,6 +41,7 @@ public:
 private:
     Unique<VkBuffer> buffer_;
     Unique<VkDeviceMemory> memory_;
+    AllocationCounter counter_;
     VkDeviceSize size_ = 0;
     void* mapped_ = nullptr;
 };
@@ -54,6 +72,7 @@ private:
     ImageDesc desc_;
     Unique<VkImage> image_;
     Unique<VkDeviceMemory> memory_;
+    AllocationCounter counter_;
     Unique<VkImageView> view_;
     std::vector<Unique<VkImageView>> mipViews_;
 };
@@ -73,6 +92,8 @@ void uploadImage(const Context& ctx, const Image& image, std::span<const std::by
 std::vector<float> readImageRGBA(const Context& ctx, VkImage image, const ImageDesc& desc,
                                  VkImageLayout layout, uint32_t mip = 0, uint32_t layer = 0);
 size_t bytesPerPixel(VkFormat format);
+// Decodes tightly packed pixels of a format readImageRGBA understands into float RGBA.
+std::vector<float> decodeRGBA(VkFormat format, const void* data, size_t pixelCount);
 
 // One image layout transition (synchronization2), coarse stages: for setup code, not frames.
 void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,

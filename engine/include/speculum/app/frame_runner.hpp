@@ -1,0 +1,71 @@
+// Builds, compiles and executes one frame graph per frame for a renderer, and reads back
+// images. Shared by speculum-capture, speculum-game, the tests and the bench.
+#pragma once
+
+#include "speculum/framegraph.hpp"
+#include "speculum/gpu/context.hpp"
+#include "speculum/render/renderer.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace speculum::app {
+
+// AOVs the engine can write today; the reflections module adds "reflection", "method" and
+// "iterations" when it lands.
+const std::vector<std::string>& availableAovs();
+const std::vector<std::string>& futureAovs();
+
+struct AovImage {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    uint32_t channels = 4;      // channels that carry data (1: depth/roughness, 2: motion, ...)
+    std::vector<float> rgba;    // width * height * 4
+};
+
+struct PassTime {
+    std::string name;
+    double ms = 0.0;
+};
+
+struct FrameResult {
+    std::map<std::string, AovImage> aovs;
+    std::vector<PassTime> passes;  // GPU timestamps, execution order
+    double frameMs = 0.0;          // sum of the engine's passes (readback excluded)
+    MemoryStats memory;            // transient peak with and without aliasing
+};
+
+// Hook that lets the caller add passes between lighting and tonemapping (modules) or after
+// tonemapping (presentation). Returns the (possibly new) lit handle.
+using LitHook = std::function<TextureHandle(FrameGraph&, const render::GBuffer&, TextureHandle lit)>;
+using PresentHook = std::function<void(FrameGraph&, TextureHandle color)>;
+
+class FrameRunner {
+public:
+    FrameRunner(const gpu::Context& ctx, render::Renderer& renderer, uint32_t width, uint32_t height);
+    ~FrameRunner();
+    FrameRunner(const FrameRunner&) = delete;
+    FrameRunner& operator=(const FrameRunner&) = delete;
+
+    // Records one frame, submits it and waits. `aovs` names the images to read back.
+    FrameResult render(const render::FrameInputs& frame, const std::vector<std::string>& aovs,
+                       const LitHook& litHook = {}, const PresentHook& presentHook = {},
+                       VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE);
+
+    void resize(uint32_t width, uint32_t height);
+    // The last compiled graph as DOT / JSON (passes, resources, barriers, memory, timings).
+    std::string graphDot() const;
+    nlohmann::json graphJson() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace speculum::app
