@@ -39,7 +39,7 @@ vec3 shadingNormal(bool backFacing) {
 void main() {
     uint drawFlags = uint(draw.params.w);
     uint materialFlags = uint(draw.emissive.w);
-    bool frontFacing = gl_FrontFacing != ((drawFlags & kDrawMirrored) != 0u);
+    bool frontFacing = gl_FrontFacing != ((drawFlags & kDrawInvertFacing) != 0u);
     bool backFacing = ((drawFlags & kDrawDoubleSided) != 0u) && !frontFacing;
 
     vec4 base = draw.baseColor * texture(baseColorTex, inUV);

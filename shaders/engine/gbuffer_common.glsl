@@ -16,7 +16,8 @@ layout(push_constant) uniform DrawConstants {
 
 // Draw flags (params.w): how the instance is rasterized, not material data.
 const uint kDrawDoubleSided = 1u;
-const uint kDrawMirrored = 2u;  // negative-determinant transform: facing is inverted
+// gl_FrontFacing means a glTF back face (pipeline winding convention or a mirroring transform).
+const uint kDrawInvertFacing = 2u;
 
 // Material flags (emissive.w), mirror renderer.hpp.
 const uint kFlagUnlit = 1u;

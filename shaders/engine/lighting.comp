@@ -28,8 +28,10 @@ layout(push_constant) uniform LightingConstants {
 
 // 3x3 percentage-closer filter with nearest compares: lavapipe cannot linearly filter D32,
 // and this keeps the result identical on every device.
-float shadowVisibility(vec3 position, vec3 normal) {
-    vec3 p = position + normal * scene.shadowParams.z;
+float shadowVisibility(vec3 position, vec3 normal, float NoL) {
+    // Normal offset grows with the light's slope over the surface, where acne starts.
+    float sinTheta = sqrt(max(1.0 - NoL * NoL, 0.0));
+    vec3 p = position + normal * (scene.shadowParams.z * (1.0 + 2.0 * sinTheta));
     vec4 clip = scene.shadowViewProj * vec4(p, 1.0);
     vec2 uv = ndcToUV(clip.xy / clip.w);
     float depth = clip.z / clip.w;
@@ -109,7 +111,7 @@ vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
         vec3 f = evalBRDFCos(n, v, l, baseColor, metallic, roughness);
         if (all(equal(f, vec3(0.0)))) continue;
-        if (scene.lights[i].radiance.w > 0.0) f *= shadowVisibility(position, n);
+        if (scene.lights[i].radiance.w > 0.0) f *= shadowVisibility(position, n, dot(n, l));
         color += f * radiance;
     }
     color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));

@@ -69,6 +69,7 @@ struct GBuffer {
     TextureHandle normal;
     TextureHandle emissive;
     TextureHandle motion;
+    TextureHandle shadow;  // render.shadow; invalid when the scene has no directional light
 };
 
 class Renderer {

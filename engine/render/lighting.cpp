@@ -1,0 +1,155 @@
+// render.lighting: a compute pass, one thread per pixel (lighting.comp). Lights, the shadow
+// matrix and the irradiance SH never change for a scene, so they live in one buffer written at
+// construction; per-frame data fits in push constants.
+#include "renderer_impl.hpp"
+
+#include "speculum/core.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace speculum::render {
+namespace {
+
+constexpr uint32_t kMaxLights = 16;
+
+// std430 mirror of shaders/engine/lighting_common.glsl.
+struct GpuLight {
+    glm::vec4 positionType;
+    glm::vec4 directionRange;
+    glm::vec4 radiance;
+    glm::vec4 cone;
+};
+struct GpuSceneLighting {
+    glm::mat4 shadowViewProj;
+    glm::vec4 shadowParams;
+    std::array<glm::vec4, 9> sh;
+    glm::uvec4 counts;
+    std::array<GpuLight, kMaxLights> lights;
+};
+
+struct LightingConstants {
+    glm::mat4 invViewProj;
+    glm::vec4 cameraPosition;  // w: specular cube max mip
+    glm::uvec4 size;
+};
+static_assert(sizeof(LightingConstants) <= 128);
+
+GpuLight toGpu(const Light& l, bool shadowed) {
+    GpuLight g{};
+    float type = l.type == LightType::Directional ? 0.0f : l.type == LightType::Point ? 1.0f : 2.0f;
+    g.positionType = glm::vec4(l.position, type);
+    glm::vec3 dir = glm::length(l.direction) > 0.0f ? glm::normalize(l.direction) : glm::vec3(0, 0, -1);
+    g.directionRange = glm::vec4(dir, l.range);
+    g.radiance = glm::vec4(l.color * l.intensity, shadowed ? 1.0f : 0.0f);
+    // glTF's recommended spot falloff, as a scale and offset on cos(angle).
+    float cosOuter = std::cos(l.outerConeAngle);
+    float cosInner = std::cos(l.innerConeAngle);
+    float scale = 1.0f / std::max(cosInner - cosOuter, 1e-3f);
+    g.cone = glm::vec4(scale, -cosOuter * scale, 0.0f, 0.0f);
+    return g;
+}
+
+GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shadow, const Environment& env,
+                                    uint32_t shadowMapSize) {
+    GpuSceneLighting s{};
+    s.shadowViewProj = shadow.viewProj;
+    // Normal offset of 1.5 texels and a one-texel constant bias (in depth units, the map spans
+    // 2r of depth over [0, 1]) keep lit planes free of acne under the 3x3 filter.
+    float depthPerTexel = 1.0f / float(std::max(shadowMapSize, 1u));
+    s.shadowParams = glm::vec4(float(shadowMapSize), depthPerTexel, 1.5f * shadow.worldTexel,
+                               shadow.enabled ? 1.0f : 0.0f);
+    s.sh = env.irradianceSH();
+    bool shadowAssigned = false;
+    uint32_t count = 0;
+    for (const Light& l : scene.lights) {
+        if (count == kMaxLights) {
+            logWarning("render: the scene has " + std::to_string(scene.lights.size()) + " lights; only the first " +
+                       std::to_string(kMaxLights) + " are used");
+            break;
+        }
+        bool shadowed = shadow.enabled && !shadowAssigned && l.type == LightType::Directional;
+        shadowAssigned |= shadowed;
+        s.lights[count++] = toGpu(l, shadowed);
+    }
+    s.counts = glm::uvec4(count, 0, 0, 0);
+    return s;
+}
+
+}  // namespace
+
+void Renderer::Impl::createLightingResources() {
+    lightingPipeline = gpu::createComputePipeline(
+        ctx, "engine/lighting.comp",
+        {
+            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+        },
+        sizeof(LightingConstants), "render.lighting");
+    GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
+    sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      "render.scene_lighting");
+    nearestSampler = gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
+    gpu::ImageDesc dummy{.width = 1, .height = 1, .format = VK_FORMAT_R32_SFLOAT,
+                         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
+    dummyShadow = gpu::Image(ctx, dummy, "render.shadow.none");
+    const float zero = 0.0f;
+    gpu::uploadImage(ctx, dummyShadow, std::as_bytes(std::span(&zero, 1)), false);
+}
+
+void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
+                                    TextureHandle out) const {
+    VkCommandBuffer cmd = pass.cmd();
+    VkExtent2D extent = pass.extent(out);
+    VkSampler nearest = nearestSampler;
+    VkImageView shadowView = g.shadow.valid() ? pass.view(g.shadow) : dummyShadow.view();
+    lightingPipeline.bind(cmd);
+    gpu::DescriptorWriter()
+        .sampled(0, pass.view(g.depth), nearest)
+        .sampled(1, pass.view(g.albedo), nearest)
+        .sampled(2, pass.view(g.normal), nearest)
+        .sampled(3, pass.view(g.emissive), nearest)
+        .sampled(4, shadowView, nearest)
+        .sampled(5, environment->specular().view(), environment->sampler())
+        .sampled(6, environment->dfg().view(), environment->sampler())
+        .buffer(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sceneLighting.get())
+        .storage(8, pass.view(out))
+        .push(ctx, cmd, lightingPipeline);
+    LightingConstants c{frame.camera.invViewProj,
+                        glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
+                        glm::uvec4(extent.width, extent.height, 0, 0)};
+    vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c), &c);
+    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+}
+
+TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer) {
+    struct LightingData {
+        GBuffer g;
+        TextureHandle linear;
+    };
+    Impl* impl = impl_.get();
+    const auto& d = graph.addPass<LightingData>(
+        "render.lighting", PassType::Compute,
+        [&](PassBuilder& b, LightingData& data) {
+            data.g.depth = b.read(gbuffer.depth, TextureUsage::Sampled);
+            data.g.albedo = b.read(gbuffer.albedo, TextureUsage::Sampled);
+            data.g.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
+            data.g.emissive = b.read(gbuffer.emissive, TextureUsage::Sampled);
+            if (gbuffer.shadow.valid()) data.g.shadow = b.read(gbuffer.shadow, TextureUsage::Sampled);
+            data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),
+                                  TextureUsage::StorageWrite);
+        },
+        [impl, frame](const LightingData& data, PassContext& ctx) {
+            impl->recordLighting(ctx, frame, data.g, data.linear);
+        });
+    return d.linear;
+}
+
+}  // namespace speculum::render

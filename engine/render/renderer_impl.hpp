@@ -1,0 +1,88 @@
+// Internal to speculum_render: the state Renderer's passes share.
+#pragma once
+
+#include "speculum/render/renderer.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace speculum::render {
+
+// One indexed draw of a primitive under an instance transform.
+struct DrawItem {
+    uint32_t firstIndex = 0;
+    uint32_t indexCount = 0;
+    int32_t vertexOffset = 0;
+    uint32_t material = 0;  // index into SceneGpu::materials (the default material is last)
+    glm::mat4 model{1.0f};
+    bool mirrored = false;  // negative determinant: winding and facing are inverted
+};
+
+// A material resolved for drawing: factors and the views its four textures use.
+struct GpuMaterial {
+    glm::vec4 baseColor{1.0f};
+    glm::vec3 emissive{0.0f};  // already times emissiveStrength
+    float metallic = 1.0f;
+    float roughness = 1.0f;
+    float normalScale = 1.0f;
+    uint32_t flags = 0;  // kFlagUnlit | kFlagReflective
+    bool doubleSided = false;
+    VkImageView baseColorView = VK_NULL_HANDLE;
+    VkImageView metallicRoughnessView = VK_NULL_HANDLE;
+    VkImageView normalView = VK_NULL_HANDLE;
+    VkImageView emissiveView = VK_NULL_HANDLE;
+};
+
+// The scene's geometry and textures on the GPU (scene_gpu.cpp).
+struct SceneGpu {
+    gpu::Buffer vertices;
+    gpu::Buffer indices;
+    std::vector<DrawItem> draws;
+    std::vector<GpuMaterial> materials;
+    std::vector<gpu::Image> images;  // scene images (sRGB and/or UNORM) and the defaults
+    gpu::Unique<VkSampler> materialSampler;  // trilinear, repeat
+};
+SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene);
+
+// Orthographic reversed-Z projection for the shadow map (camera.cpp).
+glm::mat4 orthographicShadowProjection(float halfExtent, float znear, float zfar);
+
+// World to shadow-map clip space for the first directional light, fitted to the scene bounds.
+struct ShadowSetup {
+    bool enabled = false;
+    glm::mat4 viewProj{1.0f};
+    float worldTexel = 0.0f;  // world size of one shadow texel
+};
+ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize);
+
+struct Renderer::Impl {
+    const gpu::Context& ctx;
+    const Scene& scene;
+    RendererOptions options;
+    std::unique_ptr<Environment> environment;
+    SceneGpu gpuScene;
+    ShadowSetup shadow;
+
+    gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the G-buffer pass
+    gpu::Buffer sceneLighting;   // lights, shadow matrix, SH: static (lighting.cpp)
+    gpu::Unique<VkSampler> nearestSampler;
+    gpu::Image dummyShadow;      // bound when there is no directional light
+
+    gpu::Pipeline shadowPipeline;
+    gpu::Pipeline gbufferCulled[2];  // [0] culls glTF back faces, [1] mirrored instances
+    gpu::Pipeline gbufferDoubleSided;
+    gpu::Pipeline lightingPipeline;
+    gpu::Pipeline tonemapPipeline;
+
+    Impl(const gpu::Context& c, const Scene& s, const RendererOptions& o);
+    void createGBufferPipelines();
+    void createLightingResources();
+    void createTonemapPipeline();
+    void recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const;
+    void recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+                       const std::vector<VkImageView>& colors, VkImageView depth) const;
+    void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g, TextureHandle out) const;
+    void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;
+};
+
+}  // namespace speculum::render
