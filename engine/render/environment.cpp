@@ -120,20 +120,23 @@ EquirectImage loadEquirect(const std::filesystem::path& path) {
     in->close();
 
     image.texels.resize(size_t(image.width) * image.height);
-    size_t bad = 0;
+    size_t nonFinite = 0, negative = 0;
     for (size_t i = 0; i < image.texels.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             float v = pixels[i * channels + (channels == 3 ? c : 0)];
             // NaN/inf would poison every filtered mip and SH coefficient they touch.
-            if (!std::isfinite(v) || v < 0.0f) {
+            if (!std::isfinite(v)) {
                 v = 0.0f;
-                ++bad;
+                ++nonFinite;
+            } else if (v < 0.0f) {  // lossy EXR compression (DWA) leaves tiny negatives: harmless
+                v = 0.0f;
+                ++negative;
             }
             image.texels[i][c] = v;
         }
     }
-    if (bad > 0)
-        logWarning(file + ": " + std::to_string(bad) + " non-finite or negative values set to 0");
+    if (nonFinite > 0) logWarning(file + ": " + std::to_string(nonFinite) + " non-finite values set to 0");
+    if (negative > 0) log(LogLevel::Debug, file + ": " + std::to_string(negative) + " negative values set to 0");
     return image;
 }
 
@@ -346,6 +349,7 @@ void Environment::build(const gpu::Context& ctx, const EquirectImage& image, con
 
     gpu::Buffer equirect = uploadEquirect(ctx, image);
     IblPipelines pipelines(ctx);
+    const double setupSeconds = secondsSince(start);
     BuildInputs in{equirect, image.width, image.height, options.intensity, radiance, sampler_, options.prefilterSamples};
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (const gpu::Image* target : {&specular_, &dfg_, &radiance})
@@ -357,7 +361,8 @@ void Environment::build(const gpu::Context& ctx, const EquirectImage& image, con
         toReadOnly(cmd, specular_, 0, VK_REMAINING_MIP_LEVELS);
         toReadOnly(cmd, dfg_, 0, 1);
     });
-    log(LogLevel::Debug, label + ": IBL GPU build " + std::to_string(secondsSince(start)) + " s");
+    log(LogLevel::Debug, label + ": IBL GPU build " + std::to_string(secondsSince(start)) + " s (" +
+                             std::to_string(setupSeconds) + " s images, upload and pipelines)");
 }
 
 }  // namespace speculum::render

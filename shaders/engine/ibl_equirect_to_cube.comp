@@ -28,7 +28,7 @@ vec3 fetch(int x, int y) {
 }
 
 vec3 sampleEquirect(vec3 d) {
-    vec2 uv = vec2(0.5 + atan(d.x, -d.z) / (2.0 * PI), acos(clamp(d.y, -1.0, 1.0)) / PI);
+    vec2 uv = vec2(0.5 + atan(d.x, -d.z) / (2.0 * PI), atan(length(d.xz), d.y) / PI);
     vec2 p = uv * vec2(pc.width, pc.height) - 0.5;
     vec2 p0 = floor(p);
     vec2 f = p - p0;

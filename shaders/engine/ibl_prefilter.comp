@@ -7,6 +7,7 @@
 #include "engine/ibl_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+const uint GROUP = 64u;
 
 layout(set = 0, binding = 0) uniform samplerCube radiance;  // all box mips
 layout(set = 0, binding = 1, rgba16f) writeonly uniform imageCube target;
@@ -19,28 +20,42 @@ layout(push_constant) uniform Push {
     float sourceMips;  // radiance mip count
 } pc;
 
+// Every texel uses the same sample set in its own tangent frame, so the workgroup computes each
+// batch once: tangent-space L in xyz and the source lod in w (w < 0: below the horizon).
+shared vec4 batch[GROUP];
+
+vec4 prefilterSample(uint i) {
+    vec3 h = importanceSampleGGX(hammersley(i, pc.samples), pc.alpha);
+    // With N = V: NdotH = VdotH = h.z, and L = 2 (V.H) H - V in tangent space.
+    vec3 l = 2.0 * h.z * h - vec3(0.0, 0.0, 1.0);
+    if (l.z <= 0.0) return vec4(0.0, 0.0, 0.0, -1.0);
+    // pdf(L) = D * NdotH / (4 VdotH) = D / 4 for N = V. The lod makes one source texel cover the
+    // sample's share of the lobe (Karis 2013, with the usual +1 bias against undersampling).
+    float pdf = D_GGX(h.z, pc.alpha) * 0.25;
+    float sampleSolidAngle = 1.0 / (float(pc.samples) * pdf + 1e-6);
+    float texelSolidAngle = 4.0 * PI / (6.0 * float(pc.sourceSize * pc.sourceSize));
+    float lod = clamp(0.5 * log2(sampleSolidAngle / texelSolidAngle) + 1.0, 0.0, pc.sourceMips - 1.0);
+    return vec4(l, lod);
+}
+
 void main() {
     uvec3 texel = gl_GlobalInvocationID;
-    if (texel.x >= pc.size || texel.y >= pc.size) return;
-    vec3 n = cubeTexelDirection(texel, pc.size);
-    mat3 frame = tangentFrame(n);
-    // Solid angle of one source texel (the cube-face average, as in Karis 2013).
-    float texelSolidAngle = 4.0 * PI / (6.0 * float(pc.sourceSize * pc.sourceSize));
+    bool inside = texel.x < pc.size && texel.y < pc.size;  // no early return: barriers follow
+    mat3 frame = tangentFrame(cubeTexelDirection(min(texel, uvec3(pc.size - 1u, pc.size - 1u, 5u)), pc.size));
 
     vec3 sum = vec3(0.0);
     float weight = 0.0;
-    for (uint i = 0u; i < pc.samples; ++i) {
-        vec3 h = importanceSampleGGX(hammersley(i, pc.samples), pc.alpha);
-        // With N = V: NdotH = VdotH = h.z, and L = 2 (V.H) H - V in tangent space.
-        vec3 l = 2.0 * h.z * h - vec3(0.0, 0.0, 1.0);
-        float NdotL = l.z;
-        if (NdotL <= 0.0) continue;
-        // pdf(L) = D * NdotH / (4 VdotH) = D / 4 for N = V.
-        float pdf = D_GGX(h.z, pc.alpha) * 0.25;
-        float sampleSolidAngle = 1.0 / (float(pc.samples) * pdf + 1e-6);
-        float lod = clamp(0.5 * log2(sampleSolidAngle / texelSolidAngle) + 1.0, 0.0, pc.sourceMips - 1.0);
-        sum += textureLod(radiance, frame * l, lod).rgb * NdotL;
-        weight += NdotL;
+    for (uint base = 0u; base < pc.samples; base += GROUP) {
+        uint count = min(GROUP, pc.samples - base);
+        if (gl_LocalInvocationIndex < count) batch[gl_LocalInvocationIndex] = prefilterSample(base + gl_LocalInvocationIndex);
+        barrier();
+        for (uint i = 0u; i < count; ++i) {
+            vec4 s = batch[i];
+            if (s.w < 0.0) continue;
+            sum += textureLod(radiance, frame * s.xyz, s.w).rgb * s.z;  // weighted by NdotL
+            weight += s.z;
+        }
+        barrier();
     }
-    imageStore(target, ivec3(texel), vec4(sum / max(weight, 1e-6), 1.0));
+    if (inside) imageStore(target, ivec3(texel), vec4(sum / max(weight, 1e-6), 1.0));
 }
