@@ -209,6 +209,7 @@ public:
     virtual VkImage image(uint32_t texture) const = 0;
     virtual VkImageView view(uint32_t texture, Subresource range, VkImageViewType type) = 0;
     virtual VkBuffer buffer(uint32_t buffer) const = 0;
+    // passIndex: position in execution order (0 starts a frame's recording).
     virtual void beginPass(VkCommandBuffer cmd, const std::string& name, uint32_t passIndex) = 0;
     virtual void endPass(VkCommandBuffer cmd, uint32_t passIndex) = 0;
 };
@@ -284,6 +285,8 @@ public:
     uint32_t bufferCount() const;
     const std::string& bufferName(uint32_t id) const;
     const BufferDesc& bufferDesc(uint32_t id) const;
+    // Union of bufferUsageOf over the passes that survived the last compile().
+    VkBufferUsageFlags bufferUsage(uint32_t id) const;
     const ImportedBuffer* importedBuffer(uint32_t id) const;
 
     // Graphviz DOT and JSON: passes, resources, barriers, memory (and timings when given).
