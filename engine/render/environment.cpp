@@ -44,7 +44,9 @@ constexpr float kPi = std::numbers::pi_v<float>;
 constexpr uint32_t kDfgSamples = 1024;
 constexpr uint32_t kGroup = 8;  // local size of every ibl_*.comp
 
-uint32_t groups(uint32_t n) { return (n + kGroup - 1) / kGroup; }
+uint32_t groups(uint32_t n) {
+    return (n + kGroup - 1) / kGroup;
+}
 
 void validate(const EnvironmentOptions& o) {
     if (o.cubeSize < 8 || !std::has_single_bit(o.cubeSize))
@@ -69,15 +71,15 @@ std::array<float, 9> shBasis(glm::vec3 n) {
             0.546274f * (n.x * n.x - n.y * n.y)};
 }
 
-constexpr std::array<float, 9> kCosineLobe = {1.0f,        2.0f / 3.0f, 2.0f / 3.0f,
-                                              2.0f / 3.0f, 0.25f,       0.25f,
-                                              0.25f,       0.25f,       0.25f};
+constexpr std::array<float, 9> kCosineLobe = {1.0f,  2.0f / 3.0f, 2.0f / 3.0f, 2.0f / 3.0f, 0.25f,
+                                              0.25f, 0.25f,       0.25f,       0.25f};
 
 }  // namespace
 
 glm::vec2 equirectUV(glm::vec3 dir) {
     glm::vec3 d = glm::normalize(dir);
-    return {0.5f + std::atan2(d.x, -d.z) / (2.0f * kPi), std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi};
+    return {0.5f + std::atan2(d.x, -d.z) / (2.0f * kPi),
+            std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi};
 }
 
 glm::vec3 equirectDirection(glm::vec2 uv) {
@@ -94,9 +96,7 @@ glm::vec3 EquirectImage::sample(glm::vec3 dir) const {
     float x0 = std::floor(px), y0 = std::floor(py);
     float fx = px - x0, fy = py - y0;
     int w = int(width), h = int(height);
-    auto at = [&](int x, int y) {
-        return texel(((x % w) + w) % w, std::clamp(y, 0, h - 1));
-    };
+    auto at = [&](int x, int y) { return texel(((x % w) + w) % w, std::clamp(y, 0, h - 1)); };
     int x = int(x0), y = int(y0);
     glm::vec3 top = glm::mix(at(x, y), at(x + 1, y), fx);
     glm::vec3 bottom = glm::mix(at(x, y + 1), at(x + 1, y + 1), fx);
@@ -135,8 +135,10 @@ EquirectImage loadEquirect(const std::filesystem::path& path) {
             image.texels[i][c] = v;
         }
     }
-    if (nonFinite > 0) logWarning(file + ": " + std::to_string(nonFinite) + " non-finite values set to 0");
-    if (negative > 0) log(LogLevel::Debug, file + ": " + std::to_string(negative) + " negative values set to 0");
+    if (nonFinite > 0)
+        logWarning(file + ": " + std::to_string(nonFinite) + " non-finite values set to 0");
+    if (negative > 0)
+        log(LogLevel::Debug, file + ": " + std::to_string(negative) + " negative values set to 0");
     return image;
 }
 
@@ -196,16 +198,17 @@ struct IblPipelines {
     gpu::Pipeline cube, downsample, prefilter, dfg;
 
     explicit IblPipelines(const gpu::Context& ctx)
-        : cube(gpu::createComputePipeline(
-              ctx, "engine/ibl_equirect_to_cube.comp",
-              {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute}, {1, kStorage, kCompute}, {2, kStorage, kCompute}},
-              sizeof(CubePush), "render.environment.equirect_to_cube")),
-          downsample(gpu::createComputePipeline(ctx, "engine/ibl_downsample.comp",
-                                                {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-                                                sizeof(DownsamplePush), "render.environment.downsample")),
-          prefilter(gpu::createComputePipeline(ctx, "engine/ibl_prefilter.comp",
-                                               {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-                                               sizeof(PrefilterPush), "render.environment.prefilter")),
+        : cube(gpu::createComputePipeline(ctx, "engine/ibl_equirect_to_cube.comp",
+                                          {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
+                                           {1, kStorage, kCompute},
+                                           {2, kStorage, kCompute}},
+                                          sizeof(CubePush), "render.environment.equirect_to_cube")),
+          downsample(gpu::createComputePipeline(
+              ctx, "engine/ibl_downsample.comp", {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
+              sizeof(DownsamplePush), "render.environment.downsample")),
+          prefilter(gpu::createComputePipeline(
+              ctx, "engine/ibl_prefilter.comp", {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
+              sizeof(PrefilterPush), "render.environment.prefilter")),
           dfg(gpu::createComputePipeline(ctx, "engine/ibl_dfg.comp", {{0, kStorage, kCompute}},
                                          sizeof(DfgPush), "render.environment.dfg")) {}
 };
@@ -269,12 +272,14 @@ void recordPrefilter(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipe
             .storage(1, specular.mipView(m))
             .push(ctx, cmd, p.prefilter);
         push(cmd, p.prefilter,
-             PrefilterPush{mipSize, in.samples, roughness * roughness, size, float(in.radiance.desc().mips)});
+             PrefilterPush{mipSize, in.samples, roughness * roughness, size,
+                           float(in.radiance.desc().mips)});
         vkCmdDispatch(cmd, groups(mipSize), groups(mipSize), 6);
     }
 }
 
-void recordDfg(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipelines& p, const gpu::Image& dfg) {
+void recordDfg(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipelines& p,
+               const gpu::Image& dfg) {
     const uint32_t size = dfg.desc().width;
     p.dfg.bind(cmd);
     gpu::DescriptorWriter().storage(0, dfg.mipView(0)).push(ctx, cmd, p.dfg);
@@ -311,7 +316,8 @@ Environment::Environment(const gpu::Context& ctx, const std::filesystem::path& e
             std::to_string(image.height) + ") built in " + std::to_string(seconds) + " s");
 }
 
-Environment::Environment(const gpu::Context& ctx, glm::vec3 constantRadiance, const EnvironmentOptions& options) {
+Environment::Environment(const gpu::Context& ctx, glm::vec3 constantRadiance,
+                         const EnvironmentOptions& options) {
     validate(options);
     glm::vec3 c = constantRadiance * options.intensity;
     // Exact rather than integrated: evalSH then returns c everywhere (E = pi c for a uniform sky).
@@ -321,36 +327,48 @@ Environment::Environment(const gpu::Context& ctx, glm::vec3 constantRadiance, co
     build(ctx, image, options, "constant environment");
 }
 
-Environment::Environment(const gpu::Context& ctx, const EquirectImage& image, const EnvironmentOptions& options) {
+Environment::Environment(const gpu::Context& ctx, const EquirectImage& image,
+                         const EnvironmentOptions& options) {
     validate(options);
-    if (image.width == 0 || image.height == 0 || image.texels.size() != size_t(image.width) * image.height)
+    if (image.width == 0 || image.height == 0 ||
+        image.texels.size() != size_t(image.width) * image.height)
         throw argumentError("environment image size does not match its texel count");
     sh_ = projectIrradianceSH(image);
     for (glm::vec4& c : sh_) c *= options.intensity;
     build(ctx, image, options, "in-memory environment");
 }
 
-void Environment::build(const gpu::Context& ctx, const EquirectImage& image, const EnvironmentOptions& options,
-                        const std::string& label) {
+void Environment::build(const gpu::Context& ctx, const EquirectImage& image,
+                        const EnvironmentOptions& options, const std::string& label) {
     auto start = std::chrono::steady_clock::now();
     const uint32_t size = options.cubeSize;
     const uint32_t levels = std::bit_width(size);  // box chain down to 1x1
     const VkImageUsageFlags usage =
         VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     // Mips stop at 4x4: smaller faces cannot hold even the widest lobe without visible seams.
-    specular_ = gpu::Image(ctx, {size, size, VK_FORMAT_R16G16B16A16_SFLOAT, levels - 2, 6, true, usage},
-                           "render.environment.specular");
-    dfg_ = gpu::Image(ctx, {options.dfgSize, options.dfgSize, VK_FORMAT_R16G16_SFLOAT, 1, 1, false, usage},
-                      "render.environment.dfg");
+    specular_ =
+        gpu::Image(ctx, {size, size, VK_FORMAT_R16G16B16A16_SFLOAT, levels - 2, 6, true, usage},
+                   "render.environment.specular");
+    dfg_ = gpu::Image(
+        ctx, {options.dfgSize, options.dfgSize, VK_FORMAT_R16G16_SFLOAT, 1, 1, false, usage},
+        "render.environment.dfg");
     gpu::Image radiance(ctx, {size, size, VK_FORMAT_R16G16B16A16_SFLOAT, levels, 6, true, usage},
                         "render.environment.radiance");
-    sampler_ = gpu::createSampler(ctx, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true);
-    ctx.setName(VK_OBJECT_TYPE_SAMPLER, reinterpret_cast<uint64_t>(sampler_.get()), "render.environment.sampler");
+    sampler_ =
+        gpu::createSampler(ctx, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true);
+    ctx.setName(VK_OBJECT_TYPE_SAMPLER, reinterpret_cast<uint64_t>(sampler_.get()),
+                "render.environment.sampler");
 
     gpu::Buffer equirect = uploadEquirect(ctx, image);
     IblPipelines pipelines(ctx);
     const double setupSeconds = secondsSince(start);
-    BuildInputs in{equirect, image.width, image.height, options.intensity, radiance, sampler_, options.prefilterSamples};
+    BuildInputs in{equirect,
+                   image.width,
+                   image.height,
+                   options.intensity,
+                   radiance,
+                   sampler_,
+                   options.prefilterSamples};
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (const gpu::Image* target : {&specular_, &dfg_, &radiance})
             gpu::transition(cmd, target->get(), target->aspect(), VK_IMAGE_LAYOUT_UNDEFINED,

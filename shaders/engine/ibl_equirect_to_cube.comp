@@ -28,6 +28,8 @@ vec3 fetch(int x, int y) {
 }
 
 vec3 sampleEquirect(vec3 d) {
+    // v = acos(d.y) / pi written as an atan: Vulkan allows acos a loose precision (lavapipe's is
+    // off by ~1e-3 rad), which shifted whole rows against the CPU reference.
     vec2 uv = vec2(0.5 + atan(d.x, -d.z) / (2.0 * PI), atan(length(d.xz), d.y) / PI);
     vec2 p = uv * vec2(pc.width, pc.height) - 0.5;
     vec2 p0 = floor(p);
@@ -42,7 +44,8 @@ vec3 sampleEquirect(vec3 d) {
 void main() {
     uvec3 texel = gl_GlobalInvocationID;
     if (texel.x >= pc.cubeSize || texel.y >= pc.cubeSize) return;
-    vec3 radiance = min(sampleEquirect(cubeTexelDirection(texel, pc.cubeSize)) * pc.scale, HALF_MAX);
+    vec3 radiance = sampleEquirect(cubeTexelDirection(texel, pc.cubeSize)) * pc.scale;
+    radiance = min(radiance, HALF_MAX);  // inf in a half float would spread through every mip
     imageStore(radianceCube, ivec3(texel), vec4(radiance, 1.0));
     imageStore(specularCube, ivec3(texel), vec4(radiance, 1.0));
 }

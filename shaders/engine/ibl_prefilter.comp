@@ -34,20 +34,22 @@ vec4 prefilterSample(uint i) {
     float pdf = D_GGX(h.z, pc.alpha) * 0.25;
     float sampleSolidAngle = 1.0 / (float(pc.samples) * pdf + 1e-6);
     float texelSolidAngle = 4.0 * PI / (6.0 * float(pc.sourceSize * pc.sourceSize));
-    float lod = clamp(0.5 * log2(sampleSolidAngle / texelSolidAngle) + 1.0, 0.0, pc.sourceMips - 1.0);
-    return vec4(l, lod);
+    float lod = 0.5 * log2(sampleSolidAngle / texelSolidAngle) + 1.0;
+    return vec4(l, clamp(lod, 0.0, pc.sourceMips - 1.0));
 }
 
 void main() {
     uvec3 texel = gl_GlobalInvocationID;
     bool inside = texel.x < pc.size && texel.y < pc.size;  // no early return: barriers follow
-    mat3 frame = tangentFrame(cubeTexelDirection(min(texel, uvec3(pc.size - 1u, pc.size - 1u, 5u)), pc.size));
+    uvec3 clamped = min(texel, uvec3(pc.size - 1u, pc.size - 1u, 5u));
+    mat3 frame = tangentFrame(cubeTexelDirection(clamped, pc.size));
 
     vec3 sum = vec3(0.0);
     float weight = 0.0;
     for (uint base = 0u; base < pc.samples; base += GROUP) {
         uint count = min(GROUP, pc.samples - base);
-        if (gl_LocalInvocationIndex < count) batch[gl_LocalInvocationIndex] = prefilterSample(base + gl_LocalInvocationIndex);
+        uint local = gl_LocalInvocationIndex;
+        if (local < count) batch[local] = prefilterSample(base + local);
         barrier();
         for (uint i = 0u; i < count; ++i) {
             vec4 s = batch[i];

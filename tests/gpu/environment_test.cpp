@@ -1,7 +1,7 @@
 // The IBL environment against CPU evaluations of the same conventions and integrals.
+#include "speculum/render/environment.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/context.hpp"
-#include "speculum/render/environment.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,8 @@ namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
 std::filesystem::path interiorExr() {
-    std::filesystem::path inRepo = std::filesystem::path(SPECULUM_SOURCE_DIR) / "assets/env/interior.exr";
+    std::filesystem::path inRepo =
+        std::filesystem::path(SPECULUM_SOURCE_DIR) / "assets/env/interior.exr";
     return std::filesystem::exists(inRepo) ? inRepo : "/work/shared/assets/env/interior.exr";
 }
 
@@ -48,12 +49,14 @@ EquirectImage axisSky(uint32_t width) {
 // Max minus min of the 2x2 texels that the bilinear lookup along dir blends.
 glm::vec3 footprintRange(const EquirectImage& sky, glm::vec3 dir) {
     glm::vec2 uv = equirectUV(dir);
-    int x0 = int(std::floor(uv.x * sky.width - 0.5f)), y0 = int(std::floor(uv.y * sky.height - 0.5f));
+    int x0 = int(std::floor(uv.x * sky.width - 0.5f)),
+        y0 = int(std::floor(uv.y * sky.height - 0.5f));
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
             int w = int(sky.width);
-            glm::vec3 t = sky.texel(((x0 + dx) % w + w) % w, std::clamp(y0 + dy, 0, int(sky.height) - 1));
+            glm::vec3 t =
+                sky.texel(((x0 + dx) % w + w) % w, std::clamp(y0 + dy, 0, int(sky.height) - 1));
             lo = glm::min(lo, t);
             hi = glm::max(hi, t);
         }
@@ -97,8 +100,8 @@ protected:
         for (const std::string& m : gpu::Context::validationMessages()) ADD_FAILURE() << m;
     }
     static std::vector<float> read(const gpu::Image& image, uint32_t mip, uint32_t layer) {
-        return gpu::readImageRGBA(*ctx_, image.get(), image.desc(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                  mip, layer);
+        return gpu::readImageRGBA(*ctx_, image.get(), image.desc(),
+                                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, mip, layer);
     }
     static std::unique_ptr<gpu::Context> ctx_;
 };
@@ -157,8 +160,10 @@ TEST_F(EnvironmentTest, NonFiniteTexelsBecomeZeroWithAWarning) {
 TEST_F(EnvironmentTest, CubeMip0MatchesEquirect) {
     auto start = std::chrono::steady_clock::now();
     Environment env(*ctx_, interiorExr());
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("environment build (256^2 x 6, 64 samples, incl. EXR load + SH): %.3f s\n", seconds);
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("environment build (256^2 x 6, 64 samples, incl. EXR load + SH): %.3f s\n",
+                seconds);
     EquirectImage sky = loadEquirect(interiorExr());
     const int size = int(env.specular().desc().width);
     ASSERT_EQ(size, 256);
@@ -176,7 +181,8 @@ TEST_F(EnvironmentTest, CubeMip0MatchesEquirect) {
                 glm::vec3 contrast = footprintRange(sky, dir);
                 const float* got = &texels[(size_t(y) * size + x) * 4];
                 for (int c = 0; c < 3; ++c)
-                    ASSERT_NEAR(got[c], want[c], 1e-2f * std::abs(want[c]) + 1e-3f * contrast[c] + 1e-6f)
+                    ASSERT_NEAR(got[c], want[c],
+                                1e-2f * std::abs(want[c]) + 1e-3f * contrast[c] + 1e-6f)
                         << "face " << face << " texel " << x << "," << y << " channel " << c;
                 ASSERT_EQ(got[3], 1.0f);
                 ++checked;
@@ -239,7 +245,8 @@ TEST_F(EnvironmentTest, ConstantColourIsUniformInEveryMipAndSH) {
                     ASSERT_NEAR(texels[i + c], colour[c], 2e-3f * colour[c])
                         << "mip " << mip << " face " << face << " texel " << i / 4;
         }
-    for (glm::vec3 n : {glm::vec3(0, 1, 0), glm::vec3(1, 0, 0), glm::normalize(glm::vec3(-1, -2, 3))}) {
+    for (glm::vec3 n :
+         {glm::vec3(0, 1, 0), glm::vec3(1, 0, 0), glm::normalize(glm::vec3(-1, -2, 3))}) {
         glm::vec3 e = evalSH(env.irradianceSH(), n);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(e[c], colour[c], 1e-5f);
     }
@@ -250,7 +257,9 @@ TEST_F(EnvironmentTest, DfgMatchesQuadratureAndLimits) {
     Environment env(*ctx_, glm::vec3(1.0f), {.cubeSize = 8, .dfgSize = 64});
     const int size = 64;
     std::vector<float> lut = read(env.dfg(), 0, 0);
-    auto at = [&](int x, int y) { return glm::vec2(lut[(size_t(y) * size + x) * 4], lut[(size_t(y) * size + x) * 4 + 1]); };
+    auto at = [&](int x, int y) {
+        return glm::vec2(lut[(size_t(y) * size + x) * 4], lut[(size_t(y) * size + x) * 4 + 1]);
+    };
     for (int x : {3, 20, 40, 63})
         for (int y : {2, 16, 32, 48, 63}) {
             glm::vec2 want = dfgQuadrature((x + 0.5f) / size, (y + 0.5f) / size);
@@ -282,13 +291,15 @@ TEST_F(EnvironmentTest, SHOfHalfCosineSkyMatchesAnalyticIrradiance) {
         }
     Environment env(*ctx_, sky, {.cubeSize = 8, .intensity = 1.5f});
     const SH9& sh = env.irradianceSH();
-    // Projections: Y00 -> pi * 0.282095, Y1-1 (y) -> 0.488603 * 2 pi / 3 * (2 / 3); times intensity.
+    // Projections: Y00 -> pi * 0.282095, Y1-1 (y) -> 0.488603 * 2 pi / 3 * (2 / 3); times
+    // intensity.
     EXPECT_NEAR(sh[0].r, 1.5f * kPi * 0.282095f, 3e-3f);
     EXPECT_NEAR(sh[1].r, 1.5f * 0.488603f * 2.0f * kPi / 3.0f * 2.0f / 3.0f, 3e-3f);
     for (int i : {2, 3, 4, 5, 7}) EXPECT_NEAR(sh[i].r, 0.0f, 1e-3f) << "coefficient " << i;
     for (float g = 0.0f; g <= kPi; g += 0.125f)
         for (float azimuth : {0.0f, 1.0f, 2.5f}) {
-            glm::vec3 n(std::sin(g) * std::cos(azimuth), std::cos(g), std::sin(g) * std::sin(azimuth));
+            glm::vec3 n(std::sin(g) * std::cos(azimuth), std::cos(g),
+                        std::sin(g) * std::sin(azimuth));
             float exact = 1.5f * ((kPi - g) * std::cos(g) + std::sin(g)) * 2.0f / (3.0f * kPi);
             glm::vec3 e = evalSH(sh, n);
             EXPECT_NEAR(e.r, exact, 0.015f) << "angle " << g;

@@ -64,9 +64,11 @@ public:
     Environment(const gpu::Context& ctx, const std::filesystem::path& equirectExr,
                 const EnvironmentOptions& options = {});
     // A constant-colour environment (tests, scenes without one).
-    Environment(const gpu::Context& ctx, glm::vec3 constantRadiance, const EnvironmentOptions& options = {});
+    Environment(const gpu::Context& ctx, glm::vec3 constantRadiance,
+                const EnvironmentOptions& options = {});
     // From an image already in memory (synthetic skies in tests).
-    Environment(const gpu::Context& ctx, const EquirectImage& image, const EnvironmentOptions& options = {});
+    Environment(const gpu::Context& ctx, const EquirectImage& image,
+                const EnvironmentOptions& options = {});
 
     // RGBA16F cube, all mips, SHADER_READ_ONLY_OPTIMAL. Mip m holds the GGX prefilter for
     // perceptual roughness m / (mipCount - 1), alpha = roughness^2 (mip 0 is the mirror image):
@@ -91,8 +93,8 @@ private:
     gpu::Unique<VkSampler> sampler_;
     SH9 sh_{};
 
-    void build(const gpu::Context& ctx, const EquirectImage& image, const EnvironmentOptions& options,
-               const std::string& label);
+    void build(const gpu::Context& ctx, const EquirectImage& image,
+               const EnvironmentOptions& options, const std::string& label);
 };
 
 }  // namespace speculum::render
