@@ -21,9 +21,10 @@
 //   shaders/common/sh.glsl evaluates the same basis.
 //
 // GPU build (one submit): the equirect goes up as a storage buffer; ibl_equirect_to_cube writes
-// mip 0 of both a temporary radiance cube and the specular cube; ibl_downsample box-filters the
-// radiance cube down to 1x1; ibl_prefilter reads that chain with filtered importance sampling to
-// write the specular mips 1..N-1; ibl_dfg fills the table.
+// mip 0 of both a temporary radiance cube and the specular cube (a bilinear lookup at the texel
+// centre, or the mean of n x n lookups when the sky has n > 1 texels per cube texel);
+// ibl_downsample box-filters the radiance cube down to 1x1; ibl_prefilter reads that chain with
+// filtered importance sampling to write the specular mips 1..N-1; ibl_dfg fills the table.
 #include "speculum/render/environment.hpp"
 
 #include "speculum/core.hpp"
@@ -176,6 +177,7 @@ namespace {
 struct CubePush {
     uint32_t width, height, cubeSize;
     float scale;
+    uint32_t supersample;
 };
 struct DownsamplePush {
     uint32_t size;
@@ -242,7 +244,10 @@ void recordCubeChain(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipe
         .storage(1, in.radiance.mipView(0))
         .storage(2, specular.mipView(0))
         .push(ctx, cmd, p.cube);
-    push(cmd, p.cube, CubePush{in.equirectWidth, in.equirectHeight, size, in.scale});
+    // A face spans a quarter of the equirect's width; beyond one sky texel per cube texel the
+    // lookups are averaged (capped: 8 x 8 keeps a 16k sky at cube size 512 cheap enough).
+    const uint32_t supersample = std::clamp((in.equirectWidth + 4 * size - 1) / (4 * size), 1u, 8u);
+    push(cmd, p.cube, CubePush{in.equirectWidth, in.equirectHeight, size, in.scale, supersample});
     vkCmdDispatch(cmd, groups(size), groups(size), 6);
     toReadOnly(cmd, in.radiance, 0, 1);
 

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Cube mip 0 from the equirectangular sky: a bilinear lookup along each texel-centre direction,
+// Cube mip 0 from the equirectangular sky: a bilinear lookup along each texel-centre direction
+// (or the mean of a grid of them when the sky is finer than the cube),
 // written both to the radiance cube (the source of the filtered mip chain) and to mip 0 of the
 // specular cube (the mirror image). Sky convention: environment.hpp.
 #include "engine/ibl_common.glsl"
@@ -16,6 +17,7 @@ layout(push_constant) uniform Push {
     uint height;
     uint cubeSize;
     float scale;
+    uint supersample;  // n x n lookups per texel
 } pc;
 
 const float HALF_MAX = 65504.0;
@@ -44,7 +46,15 @@ vec3 sampleEquirect(vec3 d) {
 void main() {
     uvec3 texel = gl_GlobalInvocationID;
     if (texel.x >= pc.cubeSize || texel.y >= pc.cubeSize) return;
-    vec3 radiance = sampleEquirect(cubeTexelDirection(texel, pc.cubeSize)) * pc.scale;
+    // A sky much finer than the cube is averaged over an n x n grid inside the texel, so a small
+    // bright sun keeps its energy instead of aliasing in or out; n = 1 is the texel centre.
+    vec3 radiance = vec3(0.0);
+    for (uint j = 0u; j < pc.supersample; ++j)
+        for (uint i = 0u; i < pc.supersample; ++i) {
+            vec2 st = vec2(texel.xy) + (vec2(i, j) + 0.5) / float(pc.supersample);
+            radiance += sampleEquirect(cubeDirection(texel.z, st / float(pc.cubeSize)));
+        }
+    radiance *= pc.scale / float(pc.supersample * pc.supersample);
     radiance = min(radiance, HALF_MAX);  // inf in a half float would spread through every mip
     imageStore(radianceCube, ivec3(texel), vec4(radiance, 1.0));
     imageStore(specularCube, ivec3(texel), vec4(radiance, 1.0));

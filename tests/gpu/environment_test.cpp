@@ -191,6 +191,25 @@ TEST_F(EnvironmentTest, CubeMip0MatchesEquirect) {
     EXPECT_GT(checked, 6000);
 }
 
+// A sky with 4 texels per cube texel: rows alternating 0 and 1 must average to grey in mip 0
+// instead of aliasing into stripes (single bilinear lookups would give anything in 0..1).
+TEST_F(EnvironmentTest, FineSkyIsAveragedIntoMip0) {
+    EquirectImage sky{1024, 512, {}};
+    for (uint32_t y = 0; y < sky.height; ++y)
+        for (uint32_t x = 0; x < sky.width; ++x) sky.texels.emplace_back(float(y % 2));
+    Environment env(*ctx_, sky, {.cubeSize = 64});
+    float lo = 1.0f, hi = 0.0f;
+    for (int face = 0; face < 6; ++face) {
+        std::vector<float> texels = read(env.specular(), 0, face);
+        for (size_t i = 0; i < texels.size(); i += 4) {
+            lo = std::min(lo, texels[i]);
+            hi = std::max(hi, texels[i]);
+        }
+    }
+    EXPECT_GT(lo, 0.3f);
+    EXPECT_LT(hi, 0.7f);
+}
+
 // NdotL-weighted mean of L.N over the GGX lobe with N = V = R: prefiltering the linear sky
 // 0.5 + 0.5 d gives 0.5 + 0.5 k d (the tangential parts cancel by symmetry).
 float lobeShrink(float alpha) {

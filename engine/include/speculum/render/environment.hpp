@@ -74,7 +74,9 @@ public:
     // perceptual roughness m / (mipCount - 1), alpha = roughness^2 (mip 0 is the mirror image):
     // sample with textureLod(cube, R, roughness * (mipCount - 1)). Faces follow the Vulkan cube
     // face selection, so texture(samplerCube, d) is the radiance seen in direction d. The last
-    // mip is 4x4 (cubeSize 256 gives 7 mips); cubeSize must be a power of two >= 8.
+    // mip is 4x4 (cubeSize 256 gives 7 mips); cubeSize must be a power of two >= 8. Mip 0 texels
+    // are the bilinear sky lookup at their centre direction, or, for skies wider than
+    // 4 * cubeSize, the mean of n x n lookups inside the texel (n = ceil(width / (4 cubeSize))).
     const gpu::Image& specular() const { return specular_; }
     // RG16F, x = N.V, y = perceptual roughness (texel centres: texel i holds (i + 0.5) / size, so
     // sample with texture(dfg, vec2(NdotV, roughness)) and a linear clamp sampler): the split-sum
