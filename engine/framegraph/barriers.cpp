@@ -177,7 +177,8 @@ SyncState BarrierBuilder::initialState(bool isTexture, uint32_t id) const {
     for (const Placement& other : c_.placements) {
         const Lifetime& ol = other.isTexture ? c_.textureLifetimes[other.resource]
                                              : c_.bufferLifetimes[other.resource];
-        bool memoryOverlap = other.offset < me.offset + me.size && me.offset < other.offset + other.size;
+        bool memoryOverlap =
+            other.offset < me.offset + me.size && me.offset < other.offset + other.size;
         if (&other == &me || !memoryOverlap || ol.last >= life.first) continue;
         Sync prev = lastUses(other.isTexture, other.resource);
         s.writeStage |= prev.srcStage;

@@ -117,8 +117,8 @@ std::string FrameGraph::dumpDot() const {
     for (uint32_t t = 0; t < g.textures.size(); ++t) {
         const TextureDesc& d = g.textures[t].info.desc;
         out << "  t" << t << " [shape=ellipse, label=\"" << dotEscape(g.textures[t].info.name)
-            << "\\n" << d.width << "x" << d.height << "\"" << (g.textures[t].imported ? ", peripheries=2" : "")
-            << "];\n";
+            << "\\n" << d.width << "x" << d.height << "\""
+            << (g.textures[t].imported ? ", peripheries=2" : "") << "];\n";
     }
     for (uint32_t b = 0; b < g.buffers.size(); ++b) {
         out << "  b" << b << " [shape=ellipse, label=\"" << dotEscape(g.buffers[b].name) << "\""

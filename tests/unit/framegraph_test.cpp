@@ -421,7 +421,8 @@ TEST(FrameGraphResolve, RelativeSizesAndUsageUnion) {
 
 // a (pass 0-1) and b (pass 2-3) never live together; c lives through passes 1-2 and overlaps
 // both.
-static void declareAliasGraph(FrameGraph& fg, TextureHandle& a, TextureHandle& b, TextureHandle& c) {
+static void declareAliasGraph(FrameGraph& fg, TextureHandle& a, TextureHandle& b,
+                              TextureHandle& c) {
     addPass(fg, "al.0", PassType::Compute, [&](PassBuilder& pb) {
         a = pb.write(pb.create("al.a", TextureDesc{}), TextureUsage::StorageWrite);
     });
