@@ -23,6 +23,9 @@ constexpr bool kPipelineFrontIsGltfBack = true;
 constexpr VkCullModeFlags kCullGltfBack = kPipelineFrontIsGltfBack ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
 constexpr VkCullModeFlags kCullGltfFront = kPipelineFrontIsGltfBack ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT;
 
+// gpu::createGraphicsPipeline declares push constants for both stages.
+constexpr VkShaderStageFlags kGraphicsPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+
 constexpr uint32_t kDrawDoubleSided = 1;
 constexpr uint32_t kDrawInvertFacing = 2;
 
@@ -176,7 +179,7 @@ void Renderer::Impl::recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t
         vkCmdBindIndexBuffer(cmd, gpuScene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
         for (const DrawItem& d : gpuScene.draws) {
             glm::mat4 m = shadow.viewProj * d.model;
-            vkCmdPushConstants(cmd, shadowPipeline.layout(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(m), &m);
+            vkCmdPushConstants(cmd, shadowPipeline.layout(), kGraphicsPushStages, 0, sizeof(m), &m);
             vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
         }
     }
@@ -220,8 +223,7 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame
                              ((d.mirrored != kPipelineFrontIsGltfBack) ? kDrawInvertFacing : 0u);
         DrawConstants c{d.model, m.baseColor, glm::vec4(m.emissive, float(m.flags)),
                         glm::vec4(m.metallic, m.roughness, m.normalScale, float(drawFlags))};
-        vkCmdPushConstants(cmd, p->layout(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                           sizeof(c), &c);
+        vkCmdPushConstants(cmd, p->layout(), kGraphicsPushStages, 0, sizeof(c), &c);
         vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
     vkCmdEndRendering(cmd);

@@ -1,0 +1,194 @@
+// The renderer's passes against CPU evaluations of the same conventions and BRDF.
+#include "render_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace speculum::render {
+namespace {
+
+using test::Frame;
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+float srgbEncode(float c) {
+    c = std::clamp(c, 0.0f, 1.0f);
+    return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+float aces(float x) {
+    return std::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
+}
+
+// The pixel a world point lands in (its centre is the nearest pixel centre).
+glm::ivec2 pixelOf(const CameraState& c, glm::vec3 world) {
+    glm::vec4 clip = c.viewProj * glm::vec4(world, 1.0f);
+    glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * glm::vec2(c.width, c.height)));
+}
+
+// Bilinear lookup with clamp-to-edge and texel centres at (i + 0.5) / size, like the sampler.
+glm::vec2 sampleBilinear(const std::vector<float>& rgba, uint32_t w, uint32_t h, glm::vec2 uv) {
+    glm::vec2 p = uv * glm::vec2(w, h) - 0.5f;
+    glm::ivec2 i0 = glm::ivec2(glm::floor(p));
+    glm::vec2 f = p - glm::vec2(i0);
+    auto at = [&](int x, int y) {
+        x = std::clamp(x, 0, int(w) - 1);
+        y = std::clamp(y, 0, int(h) - 1);
+        return glm::vec2(rgba[(size_t(y) * w + x) * 4], rgba[(size_t(y) * w + x) * 4 + 1]);
+    };
+    return glm::mix(glm::mix(at(i0.x, i0.y), at(i0.x + 1, i0.y), f.x),
+                    glm::mix(at(i0.x, i0.y + 1), at(i0.x + 1, i0.y + 1), f.x), f.y);
+}
+
+// brdf.glsl's evalBRDFCos in C++.
+glm::vec3 brdfCos(glm::vec3 n, glm::vec3 v, glm::vec3 l, glm::vec3 base, float metallic, float rough) {
+    float NoL = glm::dot(n, l);
+    if (NoL <= 0.0f) return glm::vec3(0.0f);
+    glm::vec3 h = glm::normalize(v + l);
+    float NoV = std::max(glm::dot(n, v), 1e-4f);
+    float NoH = std::clamp(glm::dot(n, h), 0.0f, 1.0f);
+    float VoH = std::clamp(glm::dot(v, h), 0.0f, 1.0f);
+    float r = std::clamp(rough, 0.045f, 1.0f);
+    float a = r * r, a2 = a * a;
+    float d = (NoH * a2 - NoH) * NoH + 1.0f;
+    float D = a2 / (kPi * d * d);
+    float V = 0.5f / (NoL * std::sqrt(NoV * NoV * (1 - a2) + a2) + NoV * std::sqrt(NoL * NoL * (1 - a2) + a2));
+    glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
+    glm::vec3 F = f0 + (1.0f - f0) * std::pow(1.0f - VoH, 5.0f);
+    return (base * (1.0f - metallic) / kPi + D * V * F) * NoL;
+}
+
+class RenderPasses : public ::testing::Test {
+protected:
+    void TearDown() override {
+        EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
+        for (const std::string& m : gpu::Context::validationMessages()) ADD_FAILURE() << m;
+    }
+    gpu::Context ctx;
+};
+
+TEST_F(RenderPasses, UnlitQuadWritesItsBaseColourExactly) {
+    Scene scene;
+    Material m;
+    m.unlit = true;
+    m.baseColor = {0.2f, 0.45f, 0.8f, 1.0f};
+    m.emissive = {5.0f, 5.0f, 5.0f};  // ignored by unlit
+    scene.materials.push_back(m);
+    test::addMesh(scene, test::square({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 10.0f, 0));
+    Renderer renderer(ctx, scene, {.shadowMapSize = 256});
+    CameraState cam = makeCamera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 0.8f, 64, 48);
+    Frame f = test::renderFrame(ctx, renderer, cam);
+    for (uint32_t y = 0; y < f.height; ++y) {
+        for (uint32_t x = 0; x < f.width; ++x) {
+            glm::vec4 c = f.at("render.linear", x, y);
+            for (int i = 0; i < 3; ++i) ASSERT_NEAR(c[i], m.baseColor[i], 5e-4f * m.baseColor[i]) << x << "," << y;
+        }
+    }
+    glm::vec4 color = f.at("render.color", 10, 10);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(color[i], srgbEncode(aces(m.baseColor[i])), 1.0f / 255.0f);
+}
+
+TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
+    Scene scene;
+    Material plane;
+    plane.baseColor = {0.8f, 0.6f, 0.4f, 1.0f};
+    plane.metallic = 0.0f;
+    plane.roughness = 1.0f;
+    scene.materials.push_back(plane);
+    test::addMesh(scene, test::square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 10.0f, 0));
+    // An occluder floating above the plane: single-sided, facing up, still casts.
+    const glm::vec3 occluder{-3.0f, 1.0f, -3.0f};
+    test::addMesh(scene, test::square(occluder, {1, 0, 0}, {0, 0, -1}, 0.6f, 0));
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.5f));
+    sun.color = {1.0f, 0.9f, 0.8f};
+    sun.intensity = 2.0f;
+    scene.lights.push_back(sun);
+    // The scene names no environment: the renderer's constant grey-blue sky lights it.
+    const glm::vec3 sky{0.5f, 0.6f, 0.8f};
+    Renderer renderer(ctx, scene, {.shadowMapSize = 1024});
+
+    CameraState cam = makeCamera({0, 3, 4}, {0, 0, -1}, {0, 1, 0}, 0.9f, 96, 64);
+    Frame f = test::renderFrame(ctx, renderer, cam);
+
+    const gpu::Image& dfgImage = renderer.environment().dfg();
+    std::vector<float> dfg = gpu::readImageRGBA(ctx, dfgImage.get(), dfgImage.desc(),
+                                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    glm::vec3 base = glm::vec3(plane.baseColor);
+    glm::vec3 n{0, 1, 0};
+    auto expected = [&](glm::vec3 v, bool lit) {
+        glm::vec3 c = lit ? brdfCos(n, v, -sun.direction, base, 0.0f, 1.0f) * sun.color * sun.intensity
+                          : glm::vec3(0.0f);
+        c += base * evalSH(renderer.environment().irradianceSH(), n);
+        glm::vec2 ab = sampleBilinear(dfg, dfgImage.desc().width, dfgImage.desc().height,
+                                      {std::clamp(glm::dot(n, v), 0.0f, 1.0f), 1.0f});
+        c += sky * (0.04f * ab.x + ab.y);
+        return c;
+    };
+    int checked = 0;
+    for (uint32_t y = 36; y < 64; y += 9) {
+        for (uint32_t x = 50; x < 96; x += 15) {
+            glm::vec3 origin, dir;
+            primaryRay(cam, float(x), float(y), origin, dir);
+            ASSERT_LT(dir.y, 0.0f);
+            glm::vec3 p = origin + dir * (-origin.y / dir.y);
+            glm::vec3 want = expected(-dir, true);
+            glm::vec4 got = f.at("render.linear", x, y);
+            for (int i = 0; i < 3; ++i)
+                EXPECT_NEAR(got[i], want[i], 1e-2f) << "pixel " << x << "," << y << " channel " << i;
+            ++checked;
+        }
+    }
+    EXPECT_GE(checked, 9);
+
+    // Straight under the occluder along the light: only ambient arrives.
+    glm::vec3 shadowed = occluder + sun.direction * (occluder.y / -sun.direction.y);
+    glm::ivec2 px = pixelOf(cam, shadowed);
+    glm::vec3 origin, dir;
+    primaryRay(cam, float(px.x), float(px.y), origin, dir);
+    glm::vec3 want = expected(-dir, false);
+    glm::vec4 got = f.at("render.linear", px.x, px.y);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], 1e-2f) << "shadowed pixel channel " << i;
+    // The sky: the environment's radiance.
+    glm::vec4 top = f.at("render.linear", 48, 0);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(top[i], sky[i], 2e-3f);
+}
+
+TEST_F(RenderPasses, BackFacesAreCulledUnlessDoubleSided) {
+    Scene scene;
+    auto unlit = [](glm::vec3 c, bool doubleSided) {
+        Material m;
+        m.unlit = true;
+        m.baseColor = glm::vec4(c, 1.0f);
+        m.doubleSided = doubleSided;
+        return m;
+    };
+    scene.materials = {unlit({1, 0, 0}, false), unlit({0, 1, 0}, false), unlit({0, 0, 1}, true)};
+    test::addMesh(scene, test::square({-1.0f, 0.5f, 0}, {1, 0, 0}, {0, 1, 0}, 0.4f, 0));   // faces camera
+    test::addMesh(scene, test::square({1.0f, 0.5f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 1));    // faces away
+    test::addMesh(scene, test::square({0.0f, -0.6f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 2));   // away, 2-sided
+    Renderer renderer(ctx, scene, {.shadowMapSize = 256});
+    CameraState cam = makeCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.8f, 64, 64);
+    Frame f = test::renderFrame(ctx, renderer, cam);
+
+    auto at = [&](glm::vec3 p) {
+        glm::ivec2 px = pixelOf(cam, p);
+        return f.at("render.linear", px.x, px.y);
+    };
+    EXPECT_NEAR(at({-1.0f, 0.5f, 0}).r, 1.0f, 1e-3f);
+    glm::vec4 culled = at({1.0f, 0.5f, 0});
+    EXPECT_NEAR(culled.g, 0.6f, 1e-2f) << "a single-sided back face was drawn";  // the grey-blue sky
+    EXPECT_NEAR(at({0.0f, -0.6f, 0}).b, 1.0f, 1e-3f);
+    glm::ivec2 px = pixelOf(cam, {0.0f, -0.6f, 0});
+    glm::vec4 normal = f.at("render.normal", px.x, px.y);
+    EXPECT_NEAR(normal.z, 1.0f, 1e-3f) << "a double-sided back face keeps its normal facing the viewer";
+    glm::vec4 emissive = f.at("render.emissive", px.x, px.y);
+    EXPECT_EQ(uint32_t(emissive.a), kFlagUnlit);
+}
+
+}  // namespace
+}  // namespace speculum::render

@@ -1,0 +1,109 @@
+// Shared by the render_* GPU tests: tiny scenes built in code and one-frame rendering with
+// readback of the renderer's images.
+#pragma once
+
+#include "speculum/framegraph.hpp"
+#include "speculum/gpu/context.hpp"
+#include "speculum/gpu/fg_executor.hpp"
+#include "speculum/gpu/resources.hpp"
+#include "speculum/render/renderer.hpp"
+#include "speculum/scene.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace speculum::render::test {
+
+// A square of side 2 * half in the plane through `center` spanned by axes u and v; its front
+// face (counter-clockwise, glTF) looks along cross(u, v).
+inline Primitive square(glm::vec3 center, glm::vec3 u, glm::vec3 v, float half, int material) {
+    Primitive p;
+    glm::vec3 n = glm::normalize(glm::cross(u, v));
+    const glm::vec2 corners[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (const glm::vec2& c : corners) {
+        Vertex vert{};
+        vert.position = center + (u * c.x + v * c.y) * half;
+        vert.normal = n;
+        vert.tangent = glm::vec4(glm::normalize(u), 1.0f);
+        vert.uv = c * 0.5f + 0.5f;
+        p.vertices.push_back(vert);
+    }
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.material = material;
+    p.boundsMin = glm::min(glm::min(p.vertices[0].position, p.vertices[1].position),
+                           glm::min(p.vertices[2].position, p.vertices[3].position));
+    p.boundsMax = glm::max(glm::max(p.vertices[0].position, p.vertices[1].position),
+                           glm::max(p.vertices[2].position, p.vertices[3].position));
+    return p;
+}
+
+// Adds a mesh of one primitive with an identity instance and grows the scene bounds.
+inline void addMesh(Scene& scene, const Primitive& p) {
+    bool first = scene.instances.empty();
+    Mesh mesh;
+    mesh.primitives.push_back(p);
+    scene.meshes.push_back(mesh);
+    scene.instances.push_back({-1, int(scene.meshes.size() - 1), glm::mat4(1.0f)});
+    scene.boundsMin = first ? p.boundsMin : glm::min(scene.boundsMin, p.boundsMin);
+    scene.boundsMax = first ? p.boundsMax : glm::max(scene.boundsMax, p.boundsMax);
+}
+
+struct Frame {
+    uint32_t width = 0, height = 0;
+    std::map<std::string, std::vector<float>> images;  // by resource name, RGBA float
+    glm::vec4 at(const std::string& name, uint32_t x, uint32_t y) const {
+        const float* p = &images.at(name)[(size_t(y) * width + x) * 4];
+        return {p[0], p[1], p[2], p[3]};
+    }
+};
+
+// Renders one frame (shadow, G-buffer, lighting, tonemap) and reads back render.linear,
+// render.color, render.normal and render.emissive.
+inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const CameraState& camera) {
+    FrameGraph fg(FrameGraphConfig{camera.width, camera.height});
+    FrameInputs inputs{camera, camera};
+    GBuffer g = renderer.addGBufferPasses(fg, inputs);
+    TextureHandle linear = renderer.addLightingPass(fg, inputs, g);
+    TextureHandle color = renderer.addTonemapPass(fg, linear);
+
+    std::vector<TextureHandle> reads = {linear, color, g.normal, g.emissive};
+    std::vector<gpu::Buffer> buffers;
+    for (TextureHandle h : reads) {
+        (void)h;
+        buffers.emplace_back(ctx, VkDeviceSize(camera.width) * camera.height * 8,
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.readback");
+    }
+    struct Data { std::vector<TextureHandle> reads; };
+    fg.addPass<Data>(
+        "test.readback", PassType::Transfer,
+        [&](PassBuilder& b, Data& d) {
+            for (TextureHandle h : reads) d.reads.push_back(b.read(h, TextureUsage::TransferSrc));
+            b.sideEffect();
+        },
+        [&buffers](const Data& d, PassContext& pc) {
+            for (size_t i = 0; i < d.reads.size(); ++i) {
+                VkExtent2D e = pc.extent(d.reads[i]);
+                VkBufferImageCopy copy{};
+                copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                copy.imageExtent = {e.width, e.height, 1};
+                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.reads[i]), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       buffers[i].get(), 1, &copy);
+            }
+        });
+    gpu::VulkanResourceAllocator allocator(ctx.physicalDevice(), ctx.device());
+    gpu::VulkanFrameGraphExecutor executor(ctx.instance(), ctx.physicalDevice(), ctx.device(),
+                                           ctx.timestampPeriodNs());
+    fg.compile(allocator);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
+
+    Frame frame{camera.width, camera.height, {}};
+    size_t n = size_t(camera.width) * camera.height;
+    for (size_t i = 0; i < reads.size(); ++i) {
+        const TextureInfo& info = fg.texture(reads[i].id);
+        frame.images[info.name] = gpu::decodeRGBA(info.desc.format, buffers[i].mapped(), n);
+    }
+    return frame;
+}
+
+}  // namespace speculum::render::test
