@@ -34,8 +34,8 @@ glm::mat4 orthographicReversed(float xmag, float ymag, float znear, float zfar) 
     return p;
 }
 
-CameraState finish(const glm::mat4& view, const glm::mat4& proj, float yfov, float znear, uint32_t width,
-                   uint32_t height) {
+CameraState finish(const glm::mat4& view, const glm::mat4& proj, float yfov, float znear,
+                   uint32_t width, uint32_t height) {
     CameraState c;
     c.view = view;
     c.proj = proj;
@@ -62,12 +62,12 @@ glm::mat4 orthographicShadowProjection(float halfExtent, float znear, float zfar
     return orthographicReversed(halfExtent, halfExtent, znear, zfar);
 }
 
-CameraState makeCamera(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfovRadians, uint32_t width,
-                       uint32_t height, float znear) {
+CameraState makeCamera(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfovRadians,
+                       uint32_t width, uint32_t height, float znear) {
     float aspect = float(std::max(width, 1u)) / float(std::max(height, 1u));
     glm::mat4 view = glm::lookAt(eye, target, up);
-    return finish(view, perspectiveReversedInfinite(yfovRadians, aspect, znear), yfovRadians, znear, width,
-                  height);
+    return finish(view, perspectiveReversedInfinite(yfovRadians, aspect, znear), yfovRadians, znear,
+                  width, height);
 }
 
 CameraState makeCamera(const Camera& camera, uint32_t width, uint32_t height) {
@@ -76,13 +76,14 @@ CameraState makeCamera(const Camera& camera, uint32_t width, uint32_t height) {
     if (!camera.perspective) {
         // glTF requires zfar for orthographic cameras; a missing one gets a generous default.
         float zfar = camera.zfar > znear ? camera.zfar : znear + 1000.0f;
-        return finish(view, orthographicReversed(camera.xmag, camera.ymag, znear, zfar), 0.0f, znear, width,
-                      height);
+        return finish(view, orthographicReversed(camera.xmag, camera.ymag, znear, zfar), 0.0f,
+                      znear, width, height);
     }
-    float aspect = camera.aspectRatio > 0.0f ? camera.aspectRatio
-                                             : float(std::max(width, 1u)) / float(std::max(height, 1u));
-    return finish(view, perspectiveReversedInfinite(camera.yfov, aspect, znear), camera.yfov, znear, width,
-                  height);
+    float aspect = camera.aspectRatio > 0.0f
+                       ? camera.aspectRatio
+                       : float(std::max(width, 1u)) / float(std::max(height, 1u));
+    return finish(view, perspectiveReversedInfinite(camera.yfov, aspect, znear), camera.yfov, znear,
+                  width, height);
 }
 
 CameraState frameBounds(const Scene& scene, uint32_t width, uint32_t height) {
@@ -95,10 +96,12 @@ CameraState frameBounds(const Scene& scene, uint32_t width, uint32_t height) {
     float distance = radius / std::sin(halfFov) * 1.05f;
     glm::vec3 dir = glm::normalize(glm::vec3(1.0f, 0.6f, 1.0f));
     float znear = std::clamp(radius * 0.01f, 1e-3f, 0.05f);
-    return makeCamera(center + dir * distance, center, glm::vec3(0, 1, 0), yfov, width, height, znear);
+    return makeCamera(center + dir * distance, center, glm::vec3(0, 1, 0), yfov, width, height,
+                      znear);
 }
 
-void primaryRay(const CameraState& camera, float px, float py, glm::vec3& origin, glm::vec3& direction) {
+void primaryRay(const CameraState& camera, float px, float py, glm::vec3& origin,
+                glm::vec3& direction) {
     double ndcX = (double(px) + 0.5) / double(camera.width) * 2.0 - 1.0;
     double ndcY = (double(py) + 0.5) / double(camera.height) * 2.0 - 1.0;
     glm::dmat4 inv(camera.invViewProj);

@@ -20,11 +20,14 @@ namespace {
 // glTF's counter-clockwise triangles counter-clockwise in Vulkan's framebuffer convention, so
 // the pipeline's "front" is glTF's back. Both the cull mode and gl_FrontFacing follow this.
 constexpr bool kPipelineFrontIsGltfBack = true;
-constexpr VkCullModeFlags kCullGltfBack = kPipelineFrontIsGltfBack ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
-constexpr VkCullModeFlags kCullGltfFront = kPipelineFrontIsGltfBack ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT;
+constexpr VkCullModeFlags kCullGltfBack =
+    kPipelineFrontIsGltfBack ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
+constexpr VkCullModeFlags kCullGltfFront =
+    kPipelineFrontIsGltfBack ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT;
 
 // gpu::createGraphicsPipeline declares push constants for both stages.
-constexpr VkShaderStageFlags kGraphicsPushStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+constexpr VkShaderStageFlags kGraphicsPushStages =
+    VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
 constexpr uint32_t kDrawDoubleSided = 1;
 constexpr uint32_t kDrawInvertFacing = 2;
@@ -155,9 +158,10 @@ void Renderer::Impl::createGBufferPipelines() {
     g.name = "render.gbuffer.double_sided";
     gbufferDoubleSided = gpu::createGraphicsPipeline(ctx, g);
 
-    frameConstants = gpu::Buffer(ctx, sizeof(FrameConstants),
-                                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
-                                 "render.frame_constants");
+    frameConstants =
+        gpu::Buffer(ctx, sizeof(FrameConstants),
+                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+                    "render.frame_constants");
     // Fewer pipeline and descriptor switches: group draws by pipeline, then material.
     auto key = [&](const DrawItem& d) {
         return std::pair(int(cullKind(d, gpuScene.materials[d.material])), d.material);
@@ -187,8 +191,10 @@ void Renderer::Impl::recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t
 }
 
 void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
-                                   const std::vector<VkImageView>& colors, VkImageView depth) const {
-    updateFrameConstants(cmd, frameConstants.get(), {frame.camera.viewProj, frame.previousCamera.viewProj});
+                                   const std::vector<VkImageView>& colors,
+                                   VkImageView depth) const {
+    updateFrameConstants(cmd, frameConstants.get(),
+                         {frame.camera.viewProj, frame.previousCamera.viewProj});
     beginRendering(cmd, extent, colors, depth);
     if (!gpuScene.draws.empty()) {
         VkDeviceSize offset = 0;
@@ -201,8 +207,9 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame
     for (const DrawItem& d : gpuScene.draws) {
         const GpuMaterial& m = gpuScene.materials[d.material];
         CullKind kind = cullKind(d, m);
-        const gpu::Pipeline* p = kind == CullKind::None ? &gbufferDoubleSided
-                                                        : &gbufferCulled[kind == CullKind::Front ? 1 : 0];
+        const gpu::Pipeline* p = kind == CullKind::None
+                                     ? &gbufferDoubleSided
+                                     : &gbufferCulled[kind == CullKind::Front ? 1 : 0];
         if (p != bound) {
             p->bind(cmd);
             bound = p;
@@ -233,7 +240,9 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
     Impl* impl = impl_.get();
     GBuffer out;
     if (impl->shadow.enabled) {
-        struct ShadowData { TextureHandle map; };
+        struct ShadowData {
+            TextureHandle map;
+        };
         const uint32_t size = impl->options.shadowMapSize;
         const auto& s = graph.addPass<ShadowData>(
             "render.shadow", PassType::Raster,
@@ -241,11 +250,15 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
                 TextureDesc desc{.width = size, .height = size, .format = kDepthFormat};
                 d.map = b.write(b.create("render.shadow", desc), TextureUsage::DepthAttachment);
             },
-            [impl, size](const ShadowData& d, PassContext& ctx) { impl->recordShadow(ctx.cmd(), ctx.view(d.map), size); });
+            [impl, size](const ShadowData& d, PassContext& ctx) {
+                impl->recordShadow(ctx.cmd(), ctx.view(d.map), size);
+            });
         out.shadow = s.map;
     }
 
-    struct GBufferData { GBuffer g; };
+    struct GBufferData {
+        GBuffer g;
+    };
     const auto& g = graph.addPass<GBufferData>(
         "render.gbuffer", PassType::Raster,
         [&](PassBuilder& b, GBufferData& d) {
@@ -254,14 +267,16 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
             };
             d.g.albedo = target("render.albedo", kAlbedoFormat, TextureUsage::ColorAttachment);
             d.g.normal = target("render.normal", kNormalFormat, TextureUsage::ColorAttachment);
-            d.g.emissive = target("render.emissive", kEmissiveFormat, TextureUsage::ColorAttachment);
+            d.g.emissive =
+                target("render.emissive", kEmissiveFormat, TextureUsage::ColorAttachment);
             d.g.motion = target("render.motion", kMotionFormat, TextureUsage::ColorAttachment);
             d.g.depth = target("render.depth", kDepthFormat, TextureUsage::DepthAttachment);
         },
         [impl, frame](const GBufferData& d, PassContext& ctx) {
-            std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal), ctx.view(d.g.emissive),
-                                               ctx.view(d.g.motion)};
-            impl->recordGBuffer(ctx.cmd(), frame, ctx.extent(d.g.depth), colors, ctx.view(d.g.depth));
+            std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal),
+                                               ctx.view(d.g.emissive), ctx.view(d.g.motion)};
+            impl->recordGBuffer(ctx.cmd(), frame, ctx.extent(d.g.depth), colors,
+                                ctx.view(d.g.depth));
         });
     GBuffer result = g.g;
     result.shadow = out.shadow;

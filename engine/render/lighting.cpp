@@ -39,7 +39,8 @@ GpuLight toGpu(const Light& l, bool shadowed) {
     GpuLight g{};
     float type = l.type == LightType::Directional ? 0.0f : l.type == LightType::Point ? 1.0f : 2.0f;
     g.positionType = glm::vec4(l.position, type);
-    glm::vec3 dir = glm::length(l.direction) > 0.0f ? glm::normalize(l.direction) : glm::vec3(0, 0, -1);
+    glm::vec3 dir =
+        glm::length(l.direction) > 0.0f ? glm::normalize(l.direction) : glm::vec3(0, 0, -1);
     g.directionRange = glm::vec4(dir, l.range);
     g.radiance = glm::vec4(l.color * l.intensity, shadowed ? 1.0f : 0.0f);
     // glTF's recommended spot falloff, as a scale and offset on cos(angle).
@@ -50,8 +51,8 @@ GpuLight toGpu(const Light& l, bool shadowed) {
     return g;
 }
 
-GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shadow, const Environment& env,
-                                    uint32_t shadowMapSize) {
+GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shadow,
+                                    const Environment& env, uint32_t shadowMapSize) {
     GpuSceneLighting s{};
     s.shadowViewProj = shadow.viewProj;
     // Normal offset of 1.5 texels and a one-texel constant bias (in depth units, the map spans
@@ -64,8 +65,8 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
     uint32_t count = 0;
     for (const Light& l : scene.lights) {
         if (count == kMaxLights) {
-            logWarning("render: the scene has " + std::to_string(scene.lights.size()) + " lights; only the first " +
-                       std::to_string(kMaxLights) + " are used");
+            logWarning("render: the scene has " + std::to_string(scene.lights.size()) +
+                       " lights; only the first " + std::to_string(kMaxLights) + " are used");
             break;
         }
         bool shadowed = shadow.enabled && !shadowAssigned && l.type == LightType::Directional;
@@ -94,10 +95,13 @@ void Renderer::Impl::createLightingResources() {
         },
         sizeof(LightingConstants), "render.lighting");
     GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
-    sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                      "render.scene_lighting");
-    nearestSampler = gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
-    gpu::ImageDesc dummy{.width = 1, .height = 1, .format = VK_FORMAT_R32_SFLOAT,
+    sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "render.scene_lighting");
+    nearestSampler =
+        gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
+    gpu::ImageDesc dummy{.width = 1,
+                         .height = 1,
+                         .format = VK_FORMAT_R32_SFLOAT,
                          .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
     dummyShadow = gpu::Image(ctx, dummy, "render.shadow.none");
     const float zero = 0.0f;
@@ -125,11 +129,13 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
                         glm::uvec4(extent.width, extent.height, 0, 0)};
-    vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c), &c);
+    vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c),
+                       &c);
     vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
 }
 
-TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer) {
+TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& frame,
+                                        const GBuffer& gbuffer) {
     struct LightingData {
         GBuffer g;
         TextureHandle linear;
@@ -142,7 +148,8 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
             data.g.albedo = b.read(gbuffer.albedo, TextureUsage::Sampled);
             data.g.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
             data.g.emissive = b.read(gbuffer.emissive, TextureUsage::Sampled);
-            if (gbuffer.shadow.valid()) data.g.shadow = b.read(gbuffer.shadow, TextureUsage::Sampled);
+            if (gbuffer.shadow.valid())
+                data.g.shadow = b.read(gbuffer.shadow, TextureUsage::Sampled);
             data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),
                                   TextureUsage::StorageWrite);
         },

@@ -11,28 +11,33 @@ constexpr glm::vec3 kDefaultSky{0.5f, 0.6f, 0.8f};
 
 // The glTF scene shown by default: "scene" when given, else the first.
 const nlohmann::json* sceneExtras(const nlohmann::json& doc) {
-    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
+    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() ||
+        doc["scenes"].empty())
         return nullptr;
     size_t index = 0;
-    if (doc.contains("scene") && doc["scene"].is_number_unsigned()) index = doc["scene"].get<size_t>();
+    if (doc.contains("scene") && doc["scene"].is_number_unsigned())
+        index = doc["scene"].get<size_t>();
     if (index >= doc["scenes"].size()) return nullptr;
     const nlohmann::json& s = doc["scenes"][index];
     if (!s.is_object() || !s.contains("extras") || !s["extras"].is_object()) return nullptr;
     return &s["extras"];
 }
 
-std::unique_ptr<Environment> makeEnvironment(const gpu::Context& ctx, const Scene& scene, RendererOptions& options) {
+std::unique_ptr<Environment> makeEnvironment(const gpu::Context& ctx, const Scene& scene,
+                                             RendererOptions& options) {
     const nlohmann::json* extras = sceneExtras(scene.document);
     if (extras && extras->contains("exposure")) {
         const auto& e = (*extras)["exposure"];
         if (!e.is_number() || !std::isfinite(e.get<double>()) || e.get<double>() <= 0.0)
-            throw inputError(scene.path.string(), "scene extras 'exposure' must be a positive number");
+            throw inputError(scene.path.string(),
+                             "scene extras 'exposure' must be a positive number");
         options.exposure = e.get<float>();
     }
     if (extras && extras->contains("environment")) {
         const auto& env = (*extras)["environment"];
         if (!env.is_string())
-            throw inputError(scene.path.string(), "scene extras 'environment' must be a path string");
+            throw inputError(scene.path.string(),
+                             "scene extras 'environment' must be a path string");
         std::filesystem::path file = scene.path.parent_path() / env.get<std::string>();
         return std::make_unique<Environment>(ctx, file, options.environment);
     }
@@ -56,8 +61,14 @@ Renderer::Renderer(const gpu::Context& ctx, const Scene& scene, const RendererOp
 
 Renderer::~Renderer() = default;
 
-const Environment& Renderer::environment() const { return *impl_->environment; }
-const Scene& Renderer::scene() const { return impl_->scene; }
-RendererOptions& Renderer::options() { return impl_->options; }
+const Environment& Renderer::environment() const {
+    return *impl_->environment;
+}
+const Scene& Renderer::scene() const {
+    return impl_->scene;
+}
+RendererOptions& Renderer::options() {
+    return impl_->options;
+}
 
 }  // namespace speculum::render

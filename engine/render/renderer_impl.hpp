@@ -39,7 +39,7 @@ struct SceneGpu {
     gpu::Buffer indices;
     std::vector<DrawItem> draws;
     std::vector<GpuMaterial> materials;
-    std::vector<gpu::Image> images;  // scene images (sRGB and/or UNORM) and the defaults
+    std::vector<gpu::Image> images;          // scene images (sRGB and/or UNORM) and the defaults
     gpu::Unique<VkSampler> materialSampler;  // trilinear, repeat
 };
 SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene);
@@ -66,7 +66,7 @@ struct Renderer::Impl {
     gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the G-buffer pass
     gpu::Buffer sceneLighting;   // lights, shadow matrix, SH: static (lighting.cpp)
     gpu::Unique<VkSampler> nearestSampler;
-    gpu::Image dummyShadow;      // bound when there is no directional light
+    gpu::Image dummyShadow;  // bound when there is no directional light
 
     gpu::Pipeline shadowPipeline;
     gpu::Pipeline gbufferCulled[2];  // [0] culls glTF back faces, [1] mirrored instances
@@ -81,7 +81,8 @@ struct Renderer::Impl {
     void recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const;
     void recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
                        const std::vector<VkImageView>& colors, VkImageView depth) const;
-    void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g, TextureHandle out) const;
+    void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
+                        TextureHandle out) const;
     void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;
 };
 

@@ -17,22 +17,23 @@ uint32_t mipCountFor(uint32_t w, uint32_t h) {
     return uint32_t(std::bit_width(std::max(w, h)));
 }
 
-gpu::Image makeTexture(const gpu::Context& ctx, uint32_t w, uint32_t h, const uint8_t* rgba, VkFormat format,
-                       const std::string& name) {
+gpu::Image makeTexture(const gpu::Context& ctx, uint32_t w, uint32_t h, const uint8_t* rgba,
+                       VkFormat format, const std::string& name) {
     gpu::ImageDesc desc;
     desc.width = w;
     desc.height = h;
     desc.format = format;
     desc.mips = mipCountFor(w, h);
-    desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     gpu::Image image(ctx, desc, name);
     auto bytes = std::as_bytes(std::span(rgba, size_t(w) * h * 4));
     gpu::uploadImage(ctx, image, bytes, desc.mips > 1);
     return image;
 }
 
-gpu::Image makeSolid(const gpu::Context& ctx, uint8_t r, uint8_t g, uint8_t b, uint8_t a, VkFormat format,
-                     const std::string& name) {
+gpu::Image makeSolid(const gpu::Context& ctx, uint8_t r, uint8_t g, uint8_t b, uint8_t a,
+                     VkFormat format, const std::string& name) {
     const uint8_t texel[4] = {r, g, b, a};
     return makeTexture(ctx, 1, 1, texel, format, name);
 }
@@ -56,12 +57,15 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
     // Geometry: primitives packed back to back; draws address them by first index and offset.
     std::vector<Vertex> vertices;
     std::vector<uint32_t> indices;
-    struct Range { uint32_t firstIndex, indexCount; int32_t vertexOffset; };
+    struct Range {
+        uint32_t firstIndex, indexCount;
+        int32_t vertexOffset;
+    };
     std::vector<std::vector<Range>> ranges(scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         for (const Primitive& p : scene.meshes[m].primitives) {
-            ranges[m].push_back({uint32_t(indices.size()), uint32_t(p.indices.size()),
-                                 int32_t(vertices.size())});
+            ranges[m].push_back(
+                {uint32_t(indices.size()), uint32_t(p.indices.size()), int32_t(vertices.size())});
             vertices.insert(vertices.end(), p.vertices.begin(), p.vertices.end());
             indices.insert(indices.end(), p.indices.begin(), p.indices.end());
         }
@@ -89,9 +93,12 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
 
     auto& images = gpuScene.images;
     images.reserve(4 + 2 * scene.images.size());
-    images.push_back(makeSolid(ctx, 255, 255, 255, 255, VK_FORMAT_R8G8B8A8_SRGB, "render.default.white"));
-    images.push_back(makeSolid(ctx, 255, 255, 255, 255, VK_FORMAT_R8G8B8A8_UNORM, "render.default.white_linear"));
-    images.push_back(makeSolid(ctx, 128, 128, 255, 255, VK_FORMAT_R8G8B8A8_UNORM, "render.default.normal"));
+    images.push_back(
+        makeSolid(ctx, 255, 255, 255, 255, VK_FORMAT_R8G8B8A8_SRGB, "render.default.white"));
+    images.push_back(makeSolid(ctx, 255, 255, 255, 255, VK_FORMAT_R8G8B8A8_UNORM,
+                               "render.default.white_linear"));
+    images.push_back(
+        makeSolid(ctx, 128, 128, 255, 255, VK_FORMAT_R8G8B8A8_UNORM, "render.default.normal"));
     images.push_back(makeSolid(ctx, 0, 0, 0, 255, VK_FORMAT_R8G8B8A8_SRGB, "render.default.black"));
     const VkImageView white = images[0].view(), whiteLinear = images[1].view();
     const VkImageView flatNormal = images[2].view(), black = images[3].view();
@@ -105,19 +112,21 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
             continue;
         }
         if (uses[i].srgb) {
-            images.push_back(makeTexture(ctx, img.width, img.height, img.rgba8.data(), VK_FORMAT_R8G8B8A8_SRGB,
-                                         "render.image." + img.name));
+            images.push_back(makeTexture(ctx, img.width, img.height, img.rgba8.data(),
+                                         VK_FORMAT_R8G8B8A8_SRGB, "render.image." + img.name));
             srgbView[i] = images.back().view();
         }
         // A placeholder's default pixels mean nothing as a normal map: such images stay flat.
         if (uses[i].linear && !(img.placeholder && uses[i].normal)) {
             images.push_back(makeTexture(ctx, img.width, img.height, img.rgba8.data(),
-                                         VK_FORMAT_R8G8B8A8_UNORM, "render.image." + img.name + ".linear"));
+                                         VK_FORMAT_R8G8B8A8_UNORM,
+                                         "render.image." + img.name + ".linear"));
             linearView[i] = images.back().view();
         }
     }
 
-    auto pick = [](const TextureRef& t, const std::vector<VkImageView>& views, VkImageView fallback) {
+    auto pick = [](const TextureRef& t, const std::vector<VkImageView>& views,
+                   VkImageView fallback) {
         if (t.image < 0 || size_t(t.image) >= views.size() || !views[t.image]) return fallback;
         return views[t.image];
     };
@@ -128,14 +137,17 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
         g.metallic = m.metallic;
         g.roughness = m.roughness;
         g.normalScale = m.normalTexture.scale;
-        g.flags = (m.unlit ? kFlagUnlit : 0u) |
-                  (m.reflections && m.reflections->mode != ReflectionMode::Off ? kFlagReflective : 0u);
+        g.flags =
+            (m.unlit ? kFlagUnlit : 0u) |
+            (m.reflections && m.reflections->mode != ReflectionMode::Off ? kFlagReflective : 0u);
         g.doubleSided = m.doubleSided;
         g.baseColorView = pick(m.baseColorTexture, srgbView, white);
         g.metallicRoughnessView = pick(m.metallicRoughnessTexture, linearView, whiteLinear);
-        bool placeholderNormal = m.normalTexture.image >= 0 && size_t(m.normalTexture.image) < scene.images.size() &&
+        bool placeholderNormal = m.normalTexture.image >= 0 &&
+                                 size_t(m.normalTexture.image) < scene.images.size() &&
                                  scene.images[m.normalTexture.image].placeholder;
-        g.normalView = placeholderNormal ? flatNormal : pick(m.normalTexture, linearView, flatNormal);
+        g.normalView =
+            placeholderNormal ? flatNormal : pick(m.normalTexture, linearView, flatNormal);
         // glTF: emissive texture multiplies the factor; without one the factor stands alone.
         g.emissiveView = pick(m.emissiveTexture, srgbView, white);
         if (m.emissive == glm::vec3(0.0f)) g.emissiveView = black;
@@ -153,11 +165,14 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
             const Range& r = ranges[inst.mesh][p];
             if (r.indexCount == 0) continue;
             int mat = prims[p].material;
-            uint32_t material = mat >= 0 && size_t(mat) < scene.materials.size() ? uint32_t(mat) : defaultMaterial;
-            gpuScene.draws.push_back({r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored});
+            uint32_t material =
+                mat >= 0 && size_t(mat) < scene.materials.size() ? uint32_t(mat) : defaultMaterial;
+            gpuScene.draws.push_back(
+                {r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored});
         }
     }
-    gpuScene.materialSampler = gpu::createSampler(ctx, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT, true);
+    gpuScene.materialSampler =
+        gpu::createSampler(ctx, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT, true);
     return gpuScene;
 }
 

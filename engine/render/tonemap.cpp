@@ -21,7 +21,8 @@ void Renderer::Impl::createTonemapPipeline() {
         sizeof(TonemapConstants), "render.tonemap");
 }
 
-void Renderer::Impl::recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const {
+void Renderer::Impl::recordTonemap(PassContext& pass, TextureHandle linear,
+                                   TextureHandle out) const {
     VkCommandBuffer cmd = pass.cmd();
     VkExtent2D extent = pass.extent(out);
     tonemapPipeline.bind(cmd);
@@ -30,7 +31,8 @@ void Renderer::Impl::recordTonemap(PassContext& pass, TextureHandle linear, Text
         .storage(1, pass.view(out))
         .push(ctx, cmd, tonemapPipeline);
     TonemapConstants c{{extent.width, extent.height}, options.exposure};
-    vkCmdPushConstants(cmd, tonemapPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c), &c);
+    vkCmdPushConstants(cmd, tonemapPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c),
+                       &c);
     vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
 }
 
@@ -47,7 +49,9 @@ TextureHandle Renderer::addTonemapPass(FrameGraph& graph, TextureHandle linear) 
             data.color = b.write(b.create("render.color", TextureDesc{.format = kColorFormat}),
                                  TextureUsage::StorageWrite);
         },
-        [impl](const TonemapData& data, PassContext& ctx) { impl->recordTonemap(ctx, data.linear, data.color); });
+        [impl](const TonemapData& data, PassContext& ctx) {
+            impl->recordTonemap(ctx, data.linear, data.color);
+        });
     return d.color;
 }
 

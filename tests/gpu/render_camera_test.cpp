@@ -1,8 +1,8 @@
 // Camera conventions on the CPU: primaryRay must trace exactly what the rasterizer samples.
 #include "speculum/render/renderer.hpp"
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <random>
 
@@ -13,8 +13,8 @@ namespace {
 glm::vec3 projectToPixel(const CameraState& c, glm::vec3 world) {
     glm::dvec4 clip = glm::dmat4(c.viewProj) * glm::dvec4(glm::dvec3(world), 1.0);
     glm::dvec3 ndc = glm::dvec3(clip) / clip.w;
-    return glm::vec3(float((ndc.x * 0.5 + 0.5) * c.width - 0.5), float((ndc.y * 0.5 + 0.5) * c.height - 0.5),
-                     float(ndc.z));
+    return glm::vec3(float((ndc.x * 0.5 + 0.5) * c.width - 0.5),
+                     float((ndc.y * 0.5 + 0.5) * c.height - 0.5), float(ndc.z));
 }
 
 void expectRayHits(const CameraState& c, glm::vec3 world) {

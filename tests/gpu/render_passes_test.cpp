@@ -44,7 +44,8 @@ glm::vec2 sampleBilinear(const std::vector<float>& rgba, uint32_t w, uint32_t h,
 }
 
 // brdf.glsl's evalBRDFCos in C++.
-glm::vec3 brdfCos(glm::vec3 n, glm::vec3 v, glm::vec3 l, glm::vec3 base, float metallic, float rough) {
+glm::vec3 brdfCos(glm::vec3 n, glm::vec3 v, glm::vec3 l, glm::vec3 base, float metallic,
+                  float rough) {
     float NoL = glm::dot(n, l);
     if (NoL <= 0.0f) return glm::vec3(0.0f);
     glm::vec3 h = glm::normalize(v + l);
@@ -55,7 +56,8 @@ glm::vec3 brdfCos(glm::vec3 n, glm::vec3 v, glm::vec3 l, glm::vec3 base, float m
     float a = r * r, a2 = a * a;
     float d = (NoH * a2 - NoH) * NoH + 1.0f;
     float D = a2 / (kPi * d * d);
-    float V = 0.5f / (NoL * std::sqrt(NoV * NoV * (1 - a2) + a2) + NoV * std::sqrt(NoL * NoL * (1 - a2) + a2));
+    float V = 0.5f / (NoL * std::sqrt(NoV * NoV * (1 - a2) + a2) +
+                      NoV * std::sqrt(NoL * NoL * (1 - a2) + a2));
     glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base, metallic);
     glm::vec3 F = f0 + (1.0f - f0) * std::pow(1.0f - VoH, 5.0f);
     return (base * (1.0f - metallic) / kPi + D * V * F) * NoL;
@@ -84,11 +86,13 @@ TEST_F(RenderPasses, UnlitQuadWritesItsBaseColourExactly) {
     for (uint32_t y = 0; y < f.height; ++y) {
         for (uint32_t x = 0; x < f.width; ++x) {
             glm::vec4 c = f.at("render.linear", x, y);
-            for (int i = 0; i < 3; ++i) ASSERT_NEAR(c[i], m.baseColor[i], 5e-4f * m.baseColor[i]) << x << "," << y;
+            for (int i = 0; i < 3; ++i)
+                ASSERT_NEAR(c[i], m.baseColor[i], 5e-4f * m.baseColor[i]) << x << "," << y;
         }
     }
     glm::vec4 color = f.at("render.color", 10, 10);
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(color[i], srgbEncode(aces(m.baseColor[i])), 1.0f / 255.0f);
+    for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(color[i], srgbEncode(aces(m.baseColor[i])), 1.0f / 255.0f);
 }
 
 TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
@@ -121,8 +125,9 @@ TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
     glm::vec3 base = glm::vec3(plane.baseColor);
     glm::vec3 n{0, 1, 0};
     auto expected = [&](glm::vec3 v, bool lit) {
-        glm::vec3 c = lit ? brdfCos(n, v, -sun.direction, base, 0.0f, 1.0f) * sun.color * sun.intensity
-                          : glm::vec3(0.0f);
+        glm::vec3 c =
+            lit ? brdfCos(n, v, -sun.direction, base, 0.0f, 1.0f) * sun.color * sun.intensity
+                : glm::vec3(0.0f);
         c += base * evalSH(renderer.environment().irradianceSH(), n);
         glm::vec2 ab = sampleBilinear(dfg, dfgImage.desc().width, dfgImage.desc().height,
                                       {std::clamp(glm::dot(n, v), 0.0f, 1.0f), 1.0f});
@@ -139,7 +144,8 @@ TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
             glm::vec3 want = expected(-dir, true);
             glm::vec4 got = f.at("render.linear", x, y);
             for (int i = 0; i < 3; ++i)
-                EXPECT_NEAR(got[i], want[i], 1e-2f) << "pixel " << x << "," << y << " channel " << i;
+                EXPECT_NEAR(got[i], want[i], 1e-2f)
+                    << "pixel " << x << "," << y << " channel " << i;
             ++checked;
         }
     }
@@ -152,7 +158,8 @@ TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
     primaryRay(cam, float(px.x), float(px.y), origin, dir);
     glm::vec3 want = expected(-dir, false);
     glm::vec4 got = f.at("render.linear", px.x, px.y);
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], 1e-2f) << "shadowed pixel channel " << i;
+    for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(got[i], want[i], 1e-2f) << "shadowed pixel channel " << i;
     // The sky: the environment's radiance.
     glm::vec4 top = f.at("render.linear", 48, 0);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(top[i], sky[i], 2e-3f);
@@ -168,9 +175,12 @@ TEST_F(RenderPasses, BackFacesAreCulledUnlessDoubleSided) {
         return m;
     };
     scene.materials = {unlit({1, 0, 0}, false), unlit({0, 1, 0}, false), unlit({0, 0, 1}, true)};
-    test::addMesh(scene, test::square({-1.0f, 0.5f, 0}, {1, 0, 0}, {0, 1, 0}, 0.4f, 0));   // faces camera
-    test::addMesh(scene, test::square({1.0f, 0.5f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 1));    // faces away
-    test::addMesh(scene, test::square({0.0f, -0.6f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 2));   // away, 2-sided
+    test::addMesh(scene,
+                  test::square({-1.0f, 0.5f, 0}, {1, 0, 0}, {0, 1, 0}, 0.4f, 0));  // faces camera
+    test::addMesh(scene,
+                  test::square({1.0f, 0.5f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 1));  // faces away
+    test::addMesh(scene,
+                  test::square({0.0f, -0.6f, 0}, {0, 1, 0}, {1, 0, 0}, 0.4f, 2));  // away, 2-sided
     Renderer renderer(ctx, scene, {.shadowMapSize = 256});
     CameraState cam = makeCamera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.8f, 64, 64);
     Frame f = test::renderFrame(ctx, renderer, cam);
@@ -181,11 +191,13 @@ TEST_F(RenderPasses, BackFacesAreCulledUnlessDoubleSided) {
     };
     EXPECT_NEAR(at({-1.0f, 0.5f, 0}).r, 1.0f, 1e-3f);
     glm::vec4 culled = at({1.0f, 0.5f, 0});
-    EXPECT_NEAR(culled.g, 0.6f, 1e-2f) << "a single-sided back face was drawn";  // the grey-blue sky
+    EXPECT_NEAR(culled.g, 0.6f, 1e-2f)
+        << "a single-sided back face was drawn";  // the grey-blue sky
     EXPECT_NEAR(at({0.0f, -0.6f, 0}).b, 1.0f, 1e-3f);
     glm::ivec2 px = pixelOf(cam, {0.0f, -0.6f, 0});
     glm::vec4 normal = f.at("render.normal", px.x, px.y);
-    EXPECT_NEAR(normal.z, 1.0f, 1e-3f) << "a double-sided back face keeps its normal facing the viewer";
+    EXPECT_NEAR(normal.z, 1.0f, 1e-3f)
+        << "a double-sided back face keeps its normal facing the viewer";
     glm::vec4 emissive = f.at("render.emissive", px.x, px.y);
     EXPECT_EQ(uint32_t(emissive.a), kFlagUnlit);
 }

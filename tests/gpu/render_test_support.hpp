@@ -74,7 +74,9 @@ inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const Came
         buffers.emplace_back(ctx, VkDeviceSize(camera.width) * camera.height * 8,
                              VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.readback");
     }
-    struct Data { std::vector<TextureHandle> reads; };
+    struct Data {
+        std::vector<TextureHandle> reads;
+    };
     fg.addPass<Data>(
         "test.readback", PassType::Transfer,
         [&](PassBuilder& b, Data& d) {
@@ -87,8 +89,9 @@ inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const Came
                 VkBufferImageCopy copy{};
                 copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
                 copy.imageExtent = {e.width, e.height, 1};
-                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.reads[i]), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       buffers[i].get(), 1, &copy);
+                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.reads[i]),
+                                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffers[i].get(), 1,
+                                       &copy);
             }
         });
     gpu::VulkanResourceAllocator allocator(ctx.physicalDevice(), ctx.device());
