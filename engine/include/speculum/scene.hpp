@@ -51,6 +51,8 @@ struct TextureRef {
     float scale = 1.0f;  // normal map scale
 };
 
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
 enum class ReflectionMode : uint8_t { Off, ScreenSpace, ProbesOnly, LocalCubemapOnly };
 
 // SPECULUM_reflections on a material.
@@ -75,6 +77,9 @@ struct Material {
     TextureRef metallicRoughnessTexture;
     TextureRef normalTexture;
     TextureRef emissiveTexture;
+    TextureRef occlusionTexture;  // scale holds the occlusion strength
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;  // AlphaMode::Mask only
     bool unlit = false;        // KHR_materials_unlit: output is base colour, exactly
     bool doubleSided = false;
     std::optional<MaterialReflections> reflections;  // SPECULUM_reflections
@@ -128,7 +133,9 @@ struct Node {
     glm::vec3 translation{0.0f};
     glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
     glm::vec3 scale{1.0f};
-    std::optional<glm::mat4> matrix;  // when the file gives a matrix instead of TRS
+    // When the file gives a matrix instead of TRS. It wins over TRS for world and save; the TRS
+    // fields then hold its decomposition, for display.
+    std::optional<glm::mat4> matrix;
     int mesh = -1;
     int camera = -1;  // index into the glTF cameras
     int light = -1;   // index into the glTF lights
@@ -157,7 +164,11 @@ struct Scene {
     glm::vec3 boundsMax{0.0f};
     // The original document, so that save() keeps what we did not understand.
     nlohmann::json document;
+    // The glTF buffers' bytes as loaded (the .glb BIN chunk, .bin files, data: URIs), so that
+    // saveScene writes a self-contained copy wherever it saves.
+    std::vector<std::vector<uint8_t>> buffers;
 
+    // nullptr when no camera has that name.
     const Camera* findCamera(const std::string& name) const;
 };
 
