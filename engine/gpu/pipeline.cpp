@@ -109,9 +109,10 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     rs.polygonMode = VK_POLYGON_MODE_FILL;
     rs.cullMode = d.cull;
-    // Projections flip Y for Vulkan's downward clip space, which turns glTF's counter-clockwise
-    // front faces clockwise on screen.
-    rs.frontFace = VK_FRONT_FACE_CLOCKWISE;
+    // glTF fronts are counter-clockwise. Our projections flip Y for Vulkan's downward clip
+    // space, and Vulkan's facing rule is written for a downward framebuffer Y, so a triangle
+    // that looks counter-clockwise on screen stays counter-clockwise here.
+    rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     rs.depthBiasEnable = d.depthBias;
     rs.lineWidth = 1.0f;
     VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};

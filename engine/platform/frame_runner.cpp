@@ -165,6 +165,8 @@ FrameResult FrameRunner::render(const render::FrameInputs& frame, const std::vec
     TextureHandle lit = m.renderer.addLightingPass(*fg, frame, g);
     if (litHook) lit = litHook(*fg, g, lit);
     TextureHandle color = m.renderer.addTonemapPass(*fg, lit);
+    // The frame's image is its output even when nobody reads it back (warm-up, timing runs).
+    fg->markOutput(color);
     if (presentHook) presentHook(*fg, color);
     auto sources = m.aovSources(g, lit, color);
     if (!aovs.empty()) m.addReadback(*fg, sources, aovs);

@@ -16,10 +16,9 @@
 namespace speculum::render {
 namespace {
 
-// gpu::createGraphicsPipeline declares clockwise front faces, but the Y-flipped projection keeps
-// glTF's counter-clockwise triangles counter-clockwise in Vulkan's framebuffer convention, so
-// the pipeline's "front" is glTF's back. Both the cull mode and gl_FrontFacing follow this.
-constexpr bool kPipelineFrontIsGltfBack = true;
+// gpu::createGraphicsPipeline declares counter-clockwise front faces, as glTF does, so the
+// pipeline's front is glTF's front (a mirrored transform swaps them per draw below).
+constexpr bool kPipelineFrontIsGltfBack = false;
 constexpr VkCullModeFlags kCullGltfBack =
     kPipelineFrontIsGltfBack ? VK_CULL_MODE_FRONT_BIT : VK_CULL_MODE_BACK_BIT;
 constexpr VkCullModeFlags kCullGltfFront =
