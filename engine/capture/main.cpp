@@ -159,7 +159,9 @@ int run(const Options& o) {
         if (poses.size() > 1) app::progress("capture", i + 1, poses.size());
     }
     app::writeText(fs::path(o.out) / "graph.dot", runner.graphDot());
-    app::writeText(fs::path(o.out) / "graph.json", runner.graphJson().dump(2));
+    nlohmann::json graph = runner.graphJson();
+    for (auto& pass : graph["passes"]) pass["median_ms"] = timings.medianPassMs(pass.value("name", ""));
+    app::writeText(fs::path(o.out) / "graph.json", graph.dump(2));
     app::writeText(fs::path(o.out) / "timings.json",
                        timings.toJson(ctx.deviceName(), w, h, gpu::persistentBytes()).dump(2));
     std::cout << timings.summary() << std::flush;
