@@ -860,10 +860,12 @@ def build_blender_repro():
         "nodes": [
             {"extras": {"speculum_reflector": 1, "note": "custom property"}, "mesh": 0, "name": "Cube"},
             {"extensions": {"KHR_lights_punctual": {"light": 0}}, "name": "Light",
-             "rotation": [0.16907575726509094, 0.7558803558349609, -0.27217137813568115, 0.570947527885437],
+             # Blender world rotations converted to Y-up and post-multiplied by the exporter's
+             # -90 degrees about X correction for cameras and lights (which look down local -Z).
+             "rotation": [-0.28416627645492554, 0.7269423007965088, 0.34203392267227173, 0.5232754945755005],
              "translation": [4.076245307922363, 5.903861999511719, -1.0054539442062378]},
             {"camera": 0, "name": "Camera",
-             "rotation": [0.483536034822464, 0.33687159419059753, -0.20870360732078552, 0.7804827094078064],
+             "rotation": [-0.20997299253940582, 0.3857799470424652, 0.09062844514846802, 0.8937962055206299],
              "translation": [7.358891487121582, 4.958309173583984, 6.925790786743164]},
             {"mesh": 1, "name": "Plane", "translation": [0, -1.0099999904632568, 0], "scale": [4, 4, 4]},
         ],

@@ -13,7 +13,7 @@ views = json.load(open("tests/capture/views.json"))["views"]
 os.makedirs("assets/goldens", exist_ok=True)
 for i, v in enumerate(views, 1):
     out = os.path.join(tmp, f"{v['scene']}.{v['camera']}")
-    subprocess.run([capture, "--scene", f"assets/scenes/{v['scene']}.gltf", "--camera", v["camera"],
+    subprocess.run([capture, "--scene", v.get("file", f"assets/scenes/{v['scene']}.gltf"), "--camera", v["camera"],
                     "--size", "320x180", "--warmup", "0", "--frames", "1", "--aov", "color",
                     "--out", out], check=True, stdout=subprocess.DEVNULL)
     shutil.copy(os.path.join(out, "color.0000.png"), f"assets/goldens/{v['scene']}.{v['camera']}.png")

@@ -3,10 +3,11 @@
 import glob, json, os, sys
 
 root = sys.argv[1]
-listed = {(v["scene"], v["camera"]) for v in json.load(open(os.path.join(root, "tests/capture/views.json")))["views"]}
+views = json.load(open(os.path.join(root, "tests/capture/views.json")))["views"]
+listed = {(v.get("file", f"assets/scenes/{v['scene']}.gltf"), v["camera"]) for v in views}
 missing = []
-for path in sorted(glob.glob(os.path.join(root, "assets/scenes/*.gltf"))):
-    scene = os.path.splitext(os.path.basename(path))[0]
+for path in sorted(glob.glob(os.path.join(root, "assets/scenes/*.gltf")) + glob.glob(os.path.join(root, "assets/blender/*.gltf"))):
+    scene = os.path.relpath(path, root)
     doc = json.load(open(path))
     for node in doc.get("nodes", []):
         if "camera" in node and (scene, node.get("name")) not in listed:
