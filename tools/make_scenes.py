@@ -613,8 +613,10 @@ def build_gallery():
 
     # concave paraboloid mirror on the far wall, tilted 8 degrees down towards the room
     m = MeshData()
-    m.dish(0.9, 1.4, 0.03, 20, 128)
-    g.object("concave_mirror", m, "concave_mirror", translation=(-0.6, 2.2, -D + 0.12),
+    sag = m.dish(0.9, 1.4, 0.03, 20, 128)
+    # Keep the whole back shell in front of the wall: sag + shell + the tilted rim + 2 cm.
+    clearance = sag + 0.03 + 0.9 * math.sin(math.radians(8.0)) + 0.02
+    g.object("concave_mirror", m, "concave_mirror", translation=(-0.6, 2.2, -D + clearance),
              rotation=quat_axis_angle((1, 0, 0), 8.0))
 
     # pillars (floor to ceiling), one shared cylinder geometry
@@ -684,8 +686,9 @@ def build_cornell():
     g.object("mirror_sphere", m, "mirror", translation=(-0.95, 0.45, -0.3))
 
     m = MeshData()
-    m.dish(0.6, 0.7, 0.03, 16, 96)
-    g.object("concave_mirror", m, "mirror", translation=(0.0, 2.05, -S + 0.06),
+    sag = m.dish(0.6, 0.7, 0.03, 16, 96)
+    clearance = sag + 0.03 + 0.6 * math.sin(math.radians(10.0)) + 0.02
+    g.object("concave_mirror", m, "mirror", translation=(0.0, 2.05, -S + clearance),
              rotation=quat_axis_angle((1, 0, 0), 10.0))
 
     m = MeshData()
