@@ -1,9 +1,10 @@
-// render.shadow and render.gbuffer.
+// render.depth_prepass and render.gbuffer.
 //
-// Shadow map: orthographic projection fitted to the scene's bounding sphere, looking along the
-// first directional light, reversed-Z like the main view (1 nearest the light, cleared to 0,
-// GREATER_OR_EQUAL), D32. Bias: a slope-scaled raster bias away from the light plus a
-// normal offset and constant bias at lookup time (lighting.comp).
+// The prepass writes render.depth alone; the G-buffer then tests GREATER_OR_EQUAL against it
+// with depth writes off (DepthRead), so every G-buffer pixel is shaded once and the colour
+// targets are created only after render.shadow_mask, in memory the shadow map no longer needs.
+// Both vertex shaders compute gl_Position with the same precise expression, so the depths match
+// bit for bit.
 //
 // Alpha modes (MASK, BLEND) are ignored: every surface is opaque. Only TEXCOORD_0 is used.
 #include "renderer_impl.hpp"
@@ -60,8 +61,9 @@ CullKind cullKind(const DrawItem& d, const GpuMaterial& m) {
     return d.mirrored ? CullKind::Front : CullKind::Back;
 }
 
+// readOnlyDepth: test against the prepass's depth, which stays as it is.
 void beginRendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
-                    VkImageView depth) {
+                    VkImageView depth, bool readOnlyDepth = false) {
     std::vector<VkRenderingAttachmentInfo> color(colors.size());
     for (size_t i = 0; i < colors.size(); ++i) {
         color[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
@@ -72,9 +74,10 @@ void beginRendering(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<Vk
     }
     VkRenderingAttachmentInfo depthInfo{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     depthInfo.imageView = depth;
-    depthInfo.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depthInfo.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depthInfo.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depthInfo.imageLayout = readOnlyDepth ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL
+                                          : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depthInfo.loadOp = readOnlyDepth ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depthInfo.storeOp = readOnlyDepth ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
     depthInfo.clearValue.depthStencil = {0.0f, 0};  // reversed-Z: 0 is infinitely far
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
     info.renderArea = {{0, 0}, extent};
@@ -110,35 +113,30 @@ void updateFrameConstants(VkCommandBuffer cmd, VkBuffer buffer, const FrameConst
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+const gpu::Pipeline& pipelineFor(const gpu::Pipeline (&pipelines)[3], const DrawItem& d,
+                                 const GpuMaterial& m) {
+    return pipelines[int(cullKind(d, m))];
+}
+
 }  // namespace
 
-ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize) {
-    ShadowSetup s;
-    auto it = std::find_if(scene.lights.begin(), scene.lights.end(),
-                           [](const Light& l) { return l.type == LightType::Directional; });
-    if (it == scene.lights.end() || scene.instances.empty()) return s;
-    glm::vec3 dir = glm::normalize(it->direction);
-    glm::vec3 center = (scene.boundsMin + scene.boundsMax) * 0.5f;
-    float radius = std::max(glm::length(scene.boundsMax - scene.boundsMin) * 0.5f, 1e-3f);
-    glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-    // The light camera sits 2r back from the centre: the sphere spans depths r..3r.
-    glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
-    s.viewProj = orthographicShadowProjection(radius, radius, 3.0f * radius) * view;
-    s.enabled = true;
-    s.worldTexel = 2.0f * radius / float(std::max(mapSize, 1u));
-    return s;
+void bindSceneGeometry(VkCommandBuffer cmd, const SceneGpu& scene) {
+    if (scene.draws.empty()) return;
+    VkDeviceSize offset = 0;
+    VkBuffer vb = scene.vertices.get();
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
+    vkCmdBindIndexBuffer(cmd, scene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
 }
 
 void Renderer::Impl::createGBufferPipelines() {
-    gpu::GraphicsPipelineDesc shadow;
-    shadow.vertexShader = "engine/shadow.vert";
-    shadow.pushConstantBytes = sizeof(glm::mat4);
-    shadow.depthFormat = kDepthFormat;
-    // Every surface casts, whichever way it faces: single-sided planes must shadow too.
-    shadow.cull = VK_CULL_MODE_NONE;
-    shadow.depthBias = true;
-    shadow.name = "render.shadow";
-    shadowPipeline = gpu::createGraphicsPipeline(ctx, shadow);
+    constexpr VkCullModeFlags kCull[3] = {kCullGltfBack, kCullGltfFront, VK_CULL_MODE_NONE};
+    constexpr const char* kSuffix[3] = {"", ".mirrored", ".double_sided"};
+    gpu::GraphicsPipelineDesc prepass;
+    prepass.vertexShader = "engine/depth_prepass.vert";
+    prepass.bindings = {kGBufferBindings[0]};
+    // The shader declares the whole DrawConstants block; the prepass pushes only the model.
+    prepass.pushConstantBytes = sizeof(DrawConstants);
+    prepass.depthFormat = kDepthFormat;
 
     gpu::GraphicsPipelineDesc g;
     g.vertexShader = "engine/gbuffer.vert";
@@ -147,15 +145,14 @@ void Renderer::Impl::createGBufferPipelines() {
     g.pushConstantBytes = sizeof(DrawConstants);
     g.colorFormats = {kAlbedoFormat, kNormalFormat, kEmissiveFormat, kMotionFormat};
     g.depthFormat = kDepthFormat;
-    g.cull = kCullGltfBack;
-    g.name = "render.gbuffer";
-    gbufferCulled[0] = gpu::createGraphicsPipeline(ctx, g);
-    g.cull = kCullGltfFront;
-    g.name = "render.gbuffer.mirrored";
-    gbufferCulled[1] = gpu::createGraphicsPipeline(ctx, g);
-    g.cull = VK_CULL_MODE_NONE;
-    g.name = "render.gbuffer.double_sided";
-    gbufferDoubleSided = gpu::createGraphicsPipeline(ctx, g);
+    g.depthWrite = false;  // GREATER_OR_EQUAL against the prepass: equal depths pass
+    for (int i = 0; i < 3; ++i) {
+        prepass.cull = g.cull = kCull[i];
+        prepass.name = std::string("render.depth_prepass") + kSuffix[i];
+        g.name = std::string("render.gbuffer") + kSuffix[i];
+        prepassPipelines[i] = gpu::createGraphicsPipeline(ctx, prepass);
+        gbufferPipelines[i] = gpu::createGraphicsPipeline(ctx, g);
+    }
 
     frameConstants =
         gpu::Buffer(ctx, sizeof(FrameConstants),
@@ -169,46 +166,38 @@ void Renderer::Impl::createGBufferPipelines() {
                      [&](const DrawItem& a, const DrawItem& b) { return key(a) < key(b); });
 }
 
-void Renderer::Impl::recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const {
-    VkExtent2D extent{size, size};
-    beginRendering(cmd, extent, {}, map);
-    if (!gpuScene.draws.empty()) {
-        shadowPipeline.bind(cmd);
-        // Reversed-Z: "away from the light" is towards 0, hence the negative slope factor.
-        vkCmdSetDepthBias(cmd, 0.0f, 0.0f, -1.5f);
-        VkDeviceSize offset = 0;
-        VkBuffer vb = gpuScene.vertices.get();
-        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-        vkCmdBindIndexBuffer(cmd, gpuScene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
-        for (const DrawItem& d : gpuScene.draws) {
-            glm::mat4 m = shadow.viewProj * d.model;
-            vkCmdPushConstants(cmd, shadowPipeline.layout(), kGraphicsPushStages, 0, sizeof(m), &m);
-            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& frame,
+                                        VkExtent2D extent, VkImageView depth) const {
+    updateFrameConstants(cmd, frameConstants.get(),
+                         {frame.camera.viewProj, frame.previousCamera.viewProj});
+    beginRendering(cmd, extent, {}, depth);
+    bindSceneGeometry(cmd, gpuScene);
+    const gpu::Pipeline* bound = nullptr;
+    for (const DrawItem& d : gpuScene.draws) {
+        const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material]);
+        if (p != bound) {
+            p->bind(cmd);
+            gpu::DescriptorWriter()
+                .buffer(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.get())
+                .push(ctx, cmd, *p);
+            bound = p;
         }
+        vkCmdPushConstants(cmd, p->layout(), kGraphicsPushStages, 0, sizeof(d.model), &d.model);
+        vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
     }
     vkCmdEndRendering(cmd);
 }
 
-void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
                                    const std::vector<VkImageView>& colors,
                                    VkImageView depth) const {
-    updateFrameConstants(cmd, frameConstants.get(),
-                         {frame.camera.viewProj, frame.previousCamera.viewProj});
-    beginRendering(cmd, extent, colors, depth);
-    if (!gpuScene.draws.empty()) {
-        VkDeviceSize offset = 0;
-        VkBuffer vb = gpuScene.vertices.get();
-        vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-        vkCmdBindIndexBuffer(cmd, gpuScene.indices.get(), 0, VK_INDEX_TYPE_UINT32);
-    }
+    beginRendering(cmd, extent, colors, depth, true);
+    bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
     uint32_t boundMaterial = ~0u;
     for (const DrawItem& d : gpuScene.draws) {
         const GpuMaterial& m = gpuScene.materials[d.material];
-        CullKind kind = cullKind(d, m);
-        const gpu::Pipeline* p = kind == CullKind::None
-                                     ? &gbufferDoubleSided
-                                     : &gbufferCulled[kind == CullKind::Front ? 1 : 0];
+        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines, d, m);
         if (p != bound) {
             p->bind(cmd);
             bound = p;
@@ -235,50 +224,49 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame
     vkCmdEndRendering(cmd);
 }
 
+TextureHandle Renderer::Impl::addDepthPrepass(FrameGraph& graph, const FrameInputs& frame) {
+    struct PrepassData {
+        TextureHandle depth;
+    };
+    const auto& d = graph.addPass<PrepassData>(
+        "render.depth_prepass", PassType::Raster,
+        [&](PassBuilder& b, PrepassData& data) {
+            data.depth = b.write(b.create("render.depth", TextureDesc{.format = kDepthFormat}),
+                                 TextureUsage::DepthAttachment);
+        },
+        [this, frame](const PrepassData& data, PassContext& ctx) {
+            recordDepthPrepass(ctx.cmd(), frame, ctx.extent(data.depth), ctx.view(data.depth));
+        });
+    return d.depth;
+}
+
 GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) {
     Impl* impl = impl_.get();
-    GBuffer out;
-    if (impl->shadow.enabled) {
-        struct ShadowData {
-            TextureHandle map;
-        };
-        const uint32_t size = impl->options.shadowMapSize;
-        const auto& s = graph.addPass<ShadowData>(
-            "render.shadow", PassType::Raster,
-            [&](PassBuilder& b, ShadowData& d) {
-                TextureDesc desc{.width = size, .height = size, .format = kDepthFormat};
-                d.map = b.write(b.create("render.shadow", desc), TextureUsage::DepthAttachment);
-            },
-            [impl, size](const ShadowData& d, PassContext& ctx) {
-                impl->recordShadow(ctx.cmd(), ctx.view(d.map), size);
-            });
-        out.shadow = s.map;
-    }
-
+    TextureHandle depth = impl->addDepthPrepass(graph, frame);
+    TextureHandle mask = impl->addShadowPasses(graph, frame, depth);
     struct GBufferData {
         GBuffer g;
     };
     const auto& g = graph.addPass<GBufferData>(
         "render.gbuffer", PassType::Raster,
         [&](PassBuilder& b, GBufferData& d) {
-            auto target = [&](const char* name, VkFormat format, TextureUsage usage) {
-                return b.write(b.create(name, TextureDesc{.format = format}), usage);
+            auto target = [&](const char* name, VkFormat format) {
+                return b.write(b.create(name, TextureDesc{.format = format}),
+                               TextureUsage::ColorAttachment);
             };
-            d.g.albedo = target("render.albedo", kAlbedoFormat, TextureUsage::ColorAttachment);
-            d.g.normal = target("render.normal", kNormalFormat, TextureUsage::ColorAttachment);
-            d.g.emissive =
-                target("render.emissive", kEmissiveFormat, TextureUsage::ColorAttachment);
-            d.g.motion = target("render.motion", kMotionFormat, TextureUsage::ColorAttachment);
-            d.g.depth = target("render.depth", kDepthFormat, TextureUsage::DepthAttachment);
+            d.g.albedo = target("render.albedo", kAlbedoFormat);
+            d.g.normal = target("render.normal", kNormalFormat);
+            d.g.emissive = target("render.emissive", kEmissiveFormat);
+            d.g.motion = target("render.motion", kMotionFormat);
+            d.g.depth = b.read(depth, TextureUsage::DepthRead);
         },
-        [impl, frame](const GBufferData& d, PassContext& ctx) {
+        [impl](const GBufferData& d, PassContext& ctx) {
             std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal),
                                                ctx.view(d.g.emissive), ctx.view(d.g.motion)};
-            impl->recordGBuffer(ctx.cmd(), frame, ctx.extent(d.g.depth), colors,
-                                ctx.view(d.g.depth));
+            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth));
         });
     GBuffer result = g.g;
-    result.shadow = out.shadow;
+    result.shadowMask = mask;
     return result;
 }
 

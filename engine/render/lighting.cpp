@@ -23,6 +23,7 @@ struct GpuLight {
 struct GpuSceneLighting {
     glm::mat4 shadowViewProj;
     glm::vec4 shadowParams;
+    glm::vec4 shadowToLight;
     std::array<glm::vec4, 9> sh;
     glm::uvec4 counts;
     std::array<GpuLight, kMaxLights> lights;
@@ -56,10 +57,11 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
     GpuSceneLighting s{};
     s.shadowViewProj = shadow.viewProj;
     // Normal offset of 1.5 texels and a one-texel constant bias (in depth units, the map spans
-    // 2r of depth over [0, 1]) keep lit planes free of acne under the 3x3 filter.
+    // 2r of depth over [0, 1]) keep lit planes free of acne under the mask's 2x2 filter.
     float depthPerTexel = 1.0f / float(std::max(shadowMapSize, 1u));
     s.shadowParams = glm::vec4(float(shadowMapSize), depthPerTexel, 1.5f * shadow.worldTexel,
                                shadow.enabled ? 1.0f : 0.0f);
+    s.shadowToLight = glm::vec4(shadow.toLight, 0.0f);
     s.sh = env.irradianceSH();
     bool shadowAssigned = false;
     uint32_t count = 0;
@@ -99,13 +101,6 @@ void Renderer::Impl::createLightingResources() {
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "render.scene_lighting");
     nearestSampler =
         gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
-    gpu::ImageDesc dummy{.width = 1,
-                         .height = 1,
-                         .format = VK_FORMAT_R32_SFLOAT,
-                         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
-    dummyShadow = gpu::Image(ctx, dummy, "render.shadow.none");
-    const float zero = 0.0f;
-    gpu::uploadImage(ctx, dummyShadow, std::as_bytes(std::span(&zero, 1)), false);
 }
 
 void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
@@ -113,14 +108,14 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     VkCommandBuffer cmd = pass.cmd();
     VkExtent2D extent = pass.extent(out);
     VkSampler nearest = nearestSampler;
-    VkImageView shadowView = g.shadow.valid() ? pass.view(g.shadow) : dummyShadow.view();
+    VkImageView maskView = g.shadowMask.valid() ? pass.view(g.shadowMask) : dummyShadowMask.view();
     lightingPipeline.bind(cmd);
     gpu::DescriptorWriter()
         .sampled(0, pass.view(g.depth), nearest)
         .sampled(1, pass.view(g.albedo), nearest)
         .sampled(2, pass.view(g.normal), nearest)
         .sampled(3, pass.view(g.emissive), nearest)
-        .sampled(4, shadowView, nearest)
+        .sampled(4, maskView, nearest)
         .sampled(5, environment->specular().view(), environment->sampler())
         .sampled(6, environment->dfg().view(), environment->sampler())
         .buffer(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sceneLighting.get())
@@ -148,8 +143,8 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
             data.g.albedo = b.read(gbuffer.albedo, TextureUsage::Sampled);
             data.g.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
             data.g.emissive = b.read(gbuffer.emissive, TextureUsage::Sampled);
-            if (gbuffer.shadow.valid())
-                data.g.shadow = b.read(gbuffer.shadow, TextureUsage::Sampled);
+            if (gbuffer.shadowMask.valid())
+                data.g.shadowMask = b.read(gbuffer.shadowMask, TextureUsage::Sampled);
             data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),
                                   TextureUsage::StorageWrite);
         },

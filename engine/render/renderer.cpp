@@ -31,7 +31,8 @@ std::unique_ptr<Environment> makeEnvironment(const gpu::Context& ctx, const Scen
         if (!e.is_number() || !std::isfinite(e.get<double>()) || e.get<double>() <= 0.0)
             throw inputError(scene.path.string(),
                              "scene extras 'exposure' must be a positive number");
-        options.exposure = e.get<float>();
+        // The scene sets its exposure; the user's option adjusts it relative to that.
+        options.exposure *= e.get<float>();
     }
     if (extras && extras->contains("environment")) {
         const auto& env = (*extras)["environment"];
@@ -52,6 +53,7 @@ Renderer::Impl::Impl(const gpu::Context& c, const Scene& s, const RendererOption
     gpuScene = uploadScene(ctx, scene);
     shadow = fitShadow(scene, options.shadowMapSize);
     createGBufferPipelines();
+    createShadowResources();
     createLightingResources();
     createTonemapPipeline();
 }

@@ -51,8 +51,12 @@ glm::mat4 orthographicShadowProjection(float halfExtent, float znear, float zfar
 struct ShadowSetup {
     bool enabled = false;
     glm::mat4 viewProj{1.0f};
-    float worldTexel = 0.0f;  // world size of one shadow texel
+    glm::vec3 toLight{0.0f, 1.0f, 0.0f};  // unit
+    float worldTexel = 0.0f;              // world size of one shadow texel
 };
+
+// Binds the scene's vertex and index buffers (gbuffer.cpp).
+void bindSceneGeometry(VkCommandBuffer cmd, const SceneGpu& scene);
 ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize);
 
 struct Renderer::Impl {
@@ -63,23 +67,33 @@ struct Renderer::Impl {
     SceneGpu gpuScene;
     ShadowSetup shadow;
 
-    gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the G-buffer pass
+    gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the depth prepass
     gpu::Buffer sceneLighting;   // lights, shadow matrix, SH: static (lighting.cpp)
     gpu::Unique<VkSampler> nearestSampler;
-    gpu::Image dummyShadow;  // bound when there is no directional light
+    gpu::Unique<VkSampler> shadowCompareSampler;  // textureGather with depth compare
+    gpu::Image dummyShadowMask;  // bound when there is no directional light
 
     gpu::Pipeline shadowPipeline;
-    gpu::Pipeline gbufferCulled[2];  // [0] culls glTF back faces, [1] mirrored instances
-    gpu::Pipeline gbufferDoubleSided;
+    gpu::Pipeline shadowMaskPipeline;
+    // Indexed by CullKind (gbuffer.cpp): the prepass must cull exactly as the G-buffer does.
+    gpu::Pipeline prepassPipelines[3];
+    gpu::Pipeline gbufferPipelines[3];
     gpu::Pipeline lightingPipeline;
     gpu::Pipeline tonemapPipeline;
 
     Impl(const gpu::Context& c, const Scene& s, const RendererOptions& o);
     void createGBufferPipelines();
+    void createShadowResources();
     void createLightingResources();
     void createTonemapPipeline();
+    TextureHandle addDepthPrepass(FrameGraph& graph, const FrameInputs& frame);
+    TextureHandle addShadowPasses(FrameGraph& graph, const FrameInputs& frame, TextureHandle depth);
+    void recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+                            VkImageView depth) const;
     void recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const;
-    void recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+    void recordShadowMask(PassContext& pass, const FrameInputs& frame, TextureHandle depth,
+                          TextureHandle map, TextureHandle out) const;
+    void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
                        const std::vector<VkImageView>& colors, VkImageView depth) const;
     void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
                         TextureHandle out) const;

@@ -13,6 +13,11 @@ layout(location = 2) out vec2 outUV;
 layout(location = 3) out vec4 outClip;
 layout(location = 4) out vec4 outPrevClip;
 
+// Must match depth_prepass.vert bit for bit: render.gbuffer tests against the prepass's depth.
+// `precise` (no FMA contraction or reassociation) rather than `invariant`: glslang puts
+// Invariant on the gl_PerVertex member, which the validation layer's SPIR-V validator rejects.
+precise gl_Position;
+
 void main() {
     vec4 world = draw.model * vec4(inPosition, 1.0);
     mat3 m = mat3(draw.model);

@@ -12,7 +12,7 @@ layout(set = 0, binding = 0) uniform sampler2D depthTex;     // D32 reversed-Z, 
 layout(set = 0, binding = 1) uniform sampler2D albedoTex;
 layout(set = 0, binding = 2) uniform sampler2D normalTex;
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
-layout(set = 0, binding = 4) uniform sampler2D shadowTex;    // D32, texelFetch only
+layout(set = 0, binding = 4) uniform sampler2D shadowMask;   // R8 sun visibility (shadow_mask.comp)
 layout(set = 0, binding = 5) uniform samplerCube envSpecular;
 layout(set = 0, binding = 6) uniform sampler2D envDFG;
 layout(set = 0, binding = 7, std430) readonly buffer SceneLightingBuffer {
@@ -25,30 +25,6 @@ layout(push_constant) uniform LightingConstants {
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
     uvec4 size;           // xy output size
 } pc;
-
-// 3x3 percentage-closer filter with nearest compares: lavapipe cannot linearly filter D32,
-// and this keeps the result identical on every device.
-float shadowVisibility(vec3 position, vec3 normal, float NoL) {
-    // Normal offset grows with the light's slope over the surface, where acne starts.
-    float sinTheta = sqrt(max(1.0 - NoL * NoL, 0.0));
-    vec3 p = position + normal * (scene.shadowParams.z * (1.0 + 2.0 * sinTheta));
-    vec4 clip = scene.shadowViewProj * vec4(p, 1.0);
-    vec2 uv = ndcToUV(clip.xy / clip.w);
-    float depth = clip.z / clip.w;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || depth > 1.0) return 1.0;
-    int size = int(scene.shadowParams.x);
-    ivec2 center = ivec2(uv * float(size));
-    float bias = scene.shadowParams.y;
-    float lit = 0.0;
-    for (int y = -1; y <= 1; ++y) {
-        for (int x = -1; x <= 1; ++x) {
-            ivec2 t = clamp(center + ivec2(x, y), ivec2(0), ivec2(size - 1));
-            // Reversed-Z: a larger stored depth is nearer the light, i.e. an occluder.
-            lit += (depth + bias >= texelFetch(shadowTex, t, 0).r) ? 1.0 : 0.0;
-        }
-    }
-    return lit * (1.0 / 9.0);
-}
 
 // Radiance arriving from one punctual light (glTF KHR_lights_punctual falloffs); l is set to
 // the unit direction towards the light.
@@ -111,7 +87,7 @@ vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
         vec3 f = evalBRDFCos(n, v, l, baseColor, metallic, roughness);
         if (all(equal(f, vec3(0.0)))) continue;
-        if (scene.lights[i].radiance.w > 0.0) f *= shadowVisibility(position, n, dot(n, l));
+        if (scene.lights[i].radiance.w > 0.0) f *= texelFetch(shadowMask, pixel, 0).r;
         color += f * radiance;
     }
     color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));

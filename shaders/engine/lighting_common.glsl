@@ -1,5 +1,6 @@
 // Scene-static lighting data (lights, shadow matrix, irradiance SH), written once by
-// engine/render/lighting.cpp; std430, mirrored there by GpuSceneLighting.
+// engine/render/lighting.cpp (std430, mirrored there by GpuSceneLighting) and read by
+// lighting.comp and shadow_mask.comp.
 #ifndef SPECULUM_LIGHTING_COMMON_GLSL
 #define SPECULUM_LIGHTING_COMMON_GLSL
 
@@ -18,6 +19,7 @@ struct GpuLight {
 struct SceneLighting {
     mat4 shadowViewProj;  // world to the shadow map's clip space (orthographic, reversed-Z)
     vec4 shadowParams;    // x map size, y depth bias, z normal offset (world units), w enabled
+    vec4 shadowToLight;   // xyz unit direction towards the shadowed light
     vec4 sh[9];           // irradiance SH / pi (environment.hpp)
     uvec4 counts;         // x light count
     GpuLight lights[kMaxLights];

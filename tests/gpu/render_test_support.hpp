@@ -58,8 +58,9 @@ struct Frame {
     }
 };
 
-// Renders one frame (shadow, G-buffer, lighting, tonemap) and reads back render.linear,
-// render.color, render.normal and render.emissive.
+// Renders one frame (depth prepass, shadow, shadow mask, G-buffer, lighting, tonemap) and
+// reads back render.linear, render.color, render.normal, render.emissive and, when the scene
+// has a directional light, render.shadow_mask.
 inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const CameraState& camera) {
     FrameGraph fg(FrameGraphConfig{camera.width, camera.height});
     FrameInputs inputs{camera, camera};
@@ -68,6 +69,7 @@ inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const Came
     TextureHandle color = renderer.addTonemapPass(fg, linear);
 
     std::vector<TextureHandle> reads = {linear, color, g.normal, g.emissive};
+    if (g.shadowMask.valid()) reads.push_back(g.shadowMask);
     std::vector<gpu::Buffer> buffers;
     for (TextureHandle h : reads) {
         (void)h;

@@ -1,5 +1,5 @@
-// The deferred renderer: G-buffer, shadow map for one directional light, GGX + Lambert lighting
-// with image-based ambient, tonemapping. It adds its passes to a frame graph and returns typed
+// The deferred renderer: depth prepass, shadow map and screen-space shadow mask for one
+// directional light, G-buffer, GGX + Lambert lighting with image-based ambient, tonemapping. It adds its passes to a frame graph and returns typed
 // handles, like every module.
 #pragma once
 
@@ -52,7 +52,7 @@ void primaryRay(const CameraState& camera, float px, float py, glm::vec3& origin
 
 struct RendererOptions {
     uint32_t shadowMapSize = 2048;
-    float exposure = 1.0f;
+    float exposure = 1.0f;  // multiplies the scene's extras.exposure
     EnvironmentOptions environment;
 };
 
@@ -69,7 +69,9 @@ struct GBuffer {
     TextureHandle normal;
     TextureHandle emissive;
     TextureHandle motion;
-    TextureHandle shadow;  // render.shadow; invalid when the scene has no directional light
+    // render.shadow_mask: R8 visibility of the shadowed directional light per pixel (1 lit);
+    // invalid when the scene has no directional light.
+    TextureHandle shadowMask;
 };
 
 class Renderer {
@@ -80,7 +82,8 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // render.shadow + render.gbuffer
+    // render.depth_prepass, render.shadow, render.shadow_mask, render.gbuffer. The G-buffer
+    // tests against the prepass's depth without writing it; `depth` is that final depth.
     GBuffer addGBufferPasses(FrameGraph& graph, const FrameInputs& frame);
     // render.lighting: punctual lights (GGX + Lambert), shadows, IBL ambient, sky, emissive.
     TextureHandle addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer);

@@ -1,0 +1,178 @@
+// render.shadow and render.shadow_mask.
+//
+// Shadow map: orthographic projection fitted to the scene's bounding sphere, looking along the
+// first directional light, reversed-Z like the main view (1 nearest the light, cleared to 0,
+// GREATER_OR_EQUAL), D32. Bias: a slope-scaled raster bias away from the light plus a
+// normal offset and constant bias at lookup time (shadow_mask.comp).
+//
+// The mask pass resolves the map into one byte of filtered visibility per pixel right after
+// the depth prepass, so the map (16 MiB at 2048^2) is dead before the G-buffer targets exist
+// and can share their memory, and lighting reads one texel instead of filtering.
+#include "renderer_impl.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+namespace speculum::render {
+namespace {
+
+struct MaskConstants {
+    glm::mat4 invViewProj;
+    glm::vec4 cameraPosition;
+    glm::uvec4 size;
+};
+static_assert(sizeof(MaskConstants) <= 128, "push constants must fit lavapipe's 128 bytes");
+
+gpu::Unique<VkSampler> createCompareSampler(const gpu::Context& ctx) {
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = VK_FILTER_NEAREST;  // textureGather ignores the filter
+    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = info.addressModeV = info.addressModeW =
+        VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    info.compareEnable = VK_TRUE;
+    // Reversed-Z: the reference (receiver depth + bias) is lit when >= the stored occluder.
+    info.compareOp = VK_COMPARE_OP_GREATER_OR_EQUAL;
+    VkSampler s;
+    gpu::check(vkCreateSampler(ctx.device(), &info, nullptr, &s), "vkCreateSampler");
+    return {ctx.device(), s, vkDestroySampler};
+}
+
+}  // namespace
+
+ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize) {
+    ShadowSetup s;
+    auto it = std::find_if(scene.lights.begin(), scene.lights.end(),
+                           [](const Light& l) { return l.type == LightType::Directional; });
+    if (it == scene.lights.end() || scene.instances.empty()) return s;
+    glm::vec3 dir = glm::normalize(it->direction);
+    glm::vec3 center = (scene.boundsMin + scene.boundsMax) * 0.5f;
+    float radius = std::max(glm::length(scene.boundsMax - scene.boundsMin) * 0.5f, 1e-3f);
+    glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    // The light camera sits 2r back from the centre: the sphere spans depths r..3r.
+    glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
+    s.viewProj = orthographicShadowProjection(radius, radius, 3.0f * radius) * view;
+    s.enabled = true;
+    s.toLight = -dir;
+    s.worldTexel = 2.0f * radius / float(std::max(mapSize, 1u));
+    return s;
+}
+
+void Renderer::Impl::createShadowResources() {
+    gpu::GraphicsPipelineDesc desc;
+    desc.vertexShader = "engine/shadow.vert";
+    desc.pushConstantBytes = sizeof(glm::mat4);
+    desc.depthFormat = kDepthFormat;
+    // Every surface casts, whichever way it faces: single-sided planes must shadow too.
+    desc.cull = VK_CULL_MODE_NONE;
+    desc.depthBias = true;
+    desc.name = "render.shadow";
+    shadowPipeline = gpu::createGraphicsPipeline(ctx, desc);
+
+    shadowMaskPipeline = gpu::createComputePipeline(
+        ctx, "engine/shadow_mask.comp",
+        {
+            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+        },
+        sizeof(MaskConstants), "render.shadow_mask");
+    shadowCompareSampler = createCompareSampler(ctx);
+
+    // Bound by lighting when there is no directional light: nothing is shadowed then.
+    gpu::ImageDesc dummy{.width = 1,
+                         .height = 1,
+                         .format = VK_FORMAT_R8_UNORM,
+                         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT};
+    dummyShadowMask = gpu::Image(ctx, dummy, "render.shadow_mask.none");
+    const uint8_t lit = 255;
+    gpu::uploadImage(ctx, dummyShadowMask, std::as_bytes(std::span(&lit, 1)), false);
+}
+
+void Renderer::Impl::recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const {
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = map;
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    depth.clearValue.depthStencil = {0.0f, 0};  // reversed-Z: nothing in front of the light
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {size, size}};
+    info.layerCount = 1;
+    info.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &info);
+    VkViewport viewport{0.0f, 0.0f, float(size), float(size), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, {size, size}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    if (!gpuScene.draws.empty()) {
+        shadowPipeline.bind(cmd);
+        // Reversed-Z: "away from the light" is towards 0, hence the negative slope factor.
+        vkCmdSetDepthBias(cmd, 0.0f, 0.0f, -1.5f);
+        bindSceneGeometry(cmd, gpuScene);
+        for (const DrawItem& d : gpuScene.draws) {
+            glm::mat4 m = shadow.viewProj * d.model;
+            vkCmdPushConstants(cmd, shadowPipeline.layout(),
+                               VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                               sizeof(m), &m);
+            vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+        }
+    }
+    vkCmdEndRendering(cmd);
+}
+
+void Renderer::Impl::recordShadowMask(PassContext& pass, const FrameInputs& frame,
+                                      TextureHandle depth, TextureHandle map,
+                                      TextureHandle out) const {
+    VkCommandBuffer cmd = pass.cmd();
+    VkExtent2D extent = pass.extent(out);
+    shadowMaskPipeline.bind(cmd);
+    gpu::DescriptorWriter()
+        .sampled(0, pass.view(depth), nearestSampler)
+        .sampled(1, pass.view(map), shadowCompareSampler)
+        .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sceneLighting.get())
+        .storage(3, pass.view(out))
+        .push(ctx, cmd, shadowMaskPipeline);
+    MaskConstants c{frame.camera.invViewProj, glm::vec4(frame.camera.position, 0.0f),
+                    glm::uvec4(extent.width, extent.height, 0, 0)};
+    vkCmdPushConstants(cmd, shadowMaskPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                       sizeof(c), &c);
+    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+}
+
+TextureHandle Renderer::Impl::addShadowPasses(FrameGraph& graph, const FrameInputs& frame,
+                                              TextureHandle depth) {
+    if (!shadow.enabled) return {};
+    struct ShadowData {
+        TextureHandle map;
+    };
+    const uint32_t size = options.shadowMapSize;
+    const auto& s = graph.addPass<ShadowData>(
+        "render.shadow", PassType::Raster,
+        [&](PassBuilder& b, ShadowData& d) {
+            TextureDesc desc{.width = size, .height = size, .format = kDepthFormat};
+            d.map = b.write(b.create("render.shadow_map", desc), TextureUsage::DepthAttachment);
+        },
+        [this, size](const ShadowData& d, PassContext& ctx) {
+            recordShadow(ctx.cmd(), ctx.view(d.map), size);
+        });
+
+    struct MaskData {
+        TextureHandle depth, map, mask;
+    };
+    const auto& m = graph.addPass<MaskData>(
+        "render.shadow_mask", PassType::Compute,
+        [&](PassBuilder& b, MaskData& d) {
+            d.depth = b.read(depth, TextureUsage::Sampled);
+            d.map = b.read(s.map, TextureUsage::Sampled);
+            TextureDesc desc{.format = VK_FORMAT_R8_UNORM};
+            d.mask = b.write(b.create("render.shadow_mask", desc), TextureUsage::StorageWrite);
+        },
+        [this, frame](const MaskData& d, PassContext& ctx) {
+            recordShadowMask(ctx, frame, d.depth, d.map, d.mask);
+        });
+    return m.mask;
+}
+
+}  // namespace speculum::render
