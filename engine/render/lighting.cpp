@@ -32,7 +32,7 @@ struct GpuSceneLighting {
 struct LightingConstants {
     glm::mat4 invViewProj;
     glm::vec4 cameraPosition;  // w: specular cube max mip
-    glm::uvec4 size;
+    glm::uvec4 size;  // z: light count
 };
 static_assert(sizeof(LightingConstants) <= 128);
 
@@ -97,6 +97,7 @@ void Renderer::Impl::createLightingResources() {
         },
         sizeof(LightingConstants), "render.lighting");
     GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
+    lightCount = data.counts.x;
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "render.scene_lighting");
     nearestSampler =
@@ -123,7 +124,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
-                        glm::uvec4(extent.width, extent.height, 0, 0)};
+                        glm::uvec4(extent.width, extent.height, lightCount, 0)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c),
                        &c);
     vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);

@@ -42,7 +42,10 @@ float V_SmithGGXCorrelated(float NoV, float NoL, float alpha) {
 }
 
 vec3 F_Schlick(vec3 f0, float VoH) {
-    float f = pow(1.0 - VoH, 5.0);
+    // x^5 by multiplication: pow() is an exp2/log2 pair on CPU drivers.
+    float x = 1.0 - VoH;
+    float x2 = x * x;
+    float f = x2 * x2 * x;
     return f0 + (vec3(1.0) - f0) * f;
 }
 

@@ -23,7 +23,7 @@ layout(set = 0, binding = 8, rgba16f) uniform writeonly image2D outLinear;
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
-    uvec4 size;           // xy output size
+    uvec4 size;           // xy output size, z light count (<= kMaxLights)
 } pc;
 
 // Radiance arriving from one punctual light (glTF KHR_lights_punctual falloffs); l is set to
@@ -78,11 +78,13 @@ vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
     vec3 baseColor = albedo.rgb;
     float metallic = albedo.a;
     vec3 position = worldFromDepth(uv, depth, pc.invViewProj);
-    vec3 v = -viewRayDirection(uv, pc.invViewProj);
+    // The near-plane point on the same ray: one transform instead of viewRayDirection's two,
+    // and right for orthographic views too.
+    vec3 v = normalize(worldFromDepth(uv, 1.0, pc.invViewProj) - position);
 
     vec3 color = emissive.rgb;
-    uint count = min(scene.counts.x, kMaxLights);
-    for (uint i = 0u; i < count; ++i) {
+    // The count comes from push constants: a loop bound the compiler sees as uniform.
+    for (uint i = 0u; i < pc.size.z; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
         vec3 f = evalBRDFCos(n, v, l, baseColor, metallic, roughness);
