@@ -5,6 +5,7 @@
 
 #include "speculum/core.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -13,7 +14,7 @@ namespace {
 
 constexpr uint32_t kMaxLights = 16;
 
-// std430 mirror of shaders/engine/lighting_common.glsl.
+// std140 mirror of shaders/engine/lighting_common.glsl (a uniform buffer).
 struct GpuLight {
     glm::vec4 positionType;
     glm::vec4 directionRange;
@@ -32,7 +33,7 @@ struct GpuSceneLighting {
 struct LightingConstants {
     glm::mat4 invViewProj;
     glm::vec4 cameraPosition;  // w: specular cube max mip
-    glm::uvec4 size;  // z: light count
+    glm::uvec4 size;  // z: directional light count, w: light count
 };
 static_assert(sizeof(LightingConstants) <= 128);
 
@@ -75,7 +76,12 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
         shadowAssigned |= shadowed;
         s.lights[count++] = toGpu(l, shadowed);
     }
-    s.counts = glm::uvec4(count, 0, 0, 0);
+    // Directional lights first, so that the shader runs one loop per kind without a branch on
+    // the type (both sides of which a SIMD CPU driver would execute); the shadowed one (the
+    // first directional) stays first.
+    auto directional = std::stable_partition(s.lights.begin(), s.lights.begin() + count,
+                                             [](const GpuLight& g) { return g.positionType.w == 0.0f; });
+    s.counts = glm::uvec4(count, uint32_t(directional - s.lights.begin()), 0, 0);
     return s;
 }
 
@@ -92,14 +98,14 @@ void Renderer::Impl::createLightingResources() {
             {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
             {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
             {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
             {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
         },
         sizeof(LightingConstants), "render.lighting");
     GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
-    lightCount = data.counts.x;
+    lightCounts = glm::uvec2(data.counts.y, data.counts.x);
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
-                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "render.scene_lighting");
+                                      VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_lighting");
     nearestSampler =
         gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
 }
@@ -119,12 +125,12 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .sampled(4, maskView, nearest)
         .sampled(5, environment->specular().view(), environment->sampler())
         .sampled(6, environment->dfg().view(), environment->sampler())
-        .buffer(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sceneLighting.get())
+        .buffer(7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
         .storage(8, pass.view(out))
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
-                        glm::uvec4(extent.width, extent.height, lightCount, 0)};
+                        glm::uvec4(extent.width, extent.height, lightCounts)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c),
                        &c);
     vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);

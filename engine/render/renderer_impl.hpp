@@ -69,7 +69,7 @@ struct Renderer::Impl {
 
     gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the depth prepass
     gpu::Buffer sceneLighting;   // lights, shadow matrix, SH: static (lighting.cpp)
-    uint32_t lightCount = 0;     // lights in sceneLighting
+    glm::uvec2 lightCounts{0};   // directional (first in sceneLighting), all
     gpu::Unique<VkSampler> nearestSampler;
     gpu::Unique<VkSampler> shadowCompareSampler;  // textureGather with depth compare
     gpu::Image dummyShadowMask;  // bound when there is no directional light

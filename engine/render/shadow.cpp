@@ -74,7 +74,7 @@ void Renderer::Impl::createShadowResources() {
         {
             {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
             {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+            {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
             {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
         },
         sizeof(MaskConstants), "render.shadow_mask");
@@ -131,7 +131,7 @@ void Renderer::Impl::recordShadowMask(PassContext& pass, const FrameInputs& fram
     gpu::DescriptorWriter()
         .sampled(0, pass.view(depth), nearestSampler)
         .sampled(1, pass.view(map), shadowCompareSampler)
-        .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sceneLighting.get())
+        .buffer(2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
         .storage(3, pass.view(out))
         .push(ctx, cmd, shadowMaskPipeline);
     MaskConstants c{frame.camera.invViewProj, glm::vec4(frame.camera.position, 0.0f),

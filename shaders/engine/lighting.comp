@@ -15,7 +15,8 @@ layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
 layout(set = 0, binding = 4) uniform sampler2D shadowMask;   // R8 sun visibility (shadow_mask.comp)
 layout(set = 0, binding = 5) uniform samplerCube envSpecular;
 layout(set = 0, binding = 6) uniform sampler2D envDFG;
-layout(set = 0, binding = 7, std430) readonly buffer SceneLightingBuffer {
+// A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
+layout(set = 0, binding = 7, std140) uniform SceneLightingBuffer {
     SceneLighting scene;
 };
 layout(set = 0, binding = 8, rgba16f) uniform writeonly image2D outLinear;
@@ -23,17 +24,12 @@ layout(set = 0, binding = 8, rgba16f) uniform writeonly image2D outLinear;
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
-    uvec4 size;           // xy output size, z light count (<= kMaxLights)
+    uvec4 size;           // xy output size, z directional lights (first), w all lights
 } pc;
 
-// Radiance arriving from one punctual light (glTF KHR_lights_punctual falloffs); l is set to
-// the unit direction towards the light.
+// Radiance arriving from a point or spot light (glTF KHR_lights_punctual falloffs); l is set
+// to the unit direction towards the light.
 vec3 incidentRadiance(GpuLight light, vec3 position, out vec3 l) {
-    uint type = uint(light.positionType.w);
-    if (type == kLightDirectional) {
-        l = -light.directionRange.xyz;
-        return light.radiance.rgb;
-    }
     vec3 toLight = light.positionType.xyz - position;
     float d2 = max(dot(toLight, toLight), 1e-8);
     l = toLight * inversesqrt(d2);
@@ -44,7 +40,7 @@ vec3 incidentRadiance(GpuLight light, vec3 position, out vec3 l) {
         float window = clamp(1.0 - ratio2 * ratio2, 0.0, 1.0);
         attenuation *= window * window;
     }
-    if (type == kLightSpot) {
+    if (uint(light.positionType.w) == kLightSpot) {
         float cd = dot(light.directionRange.xyz, -l);
         float a = clamp(cd * light.cone.x + light.cone.y, 0.0, 1.0);
         attenuation *= a * a;
@@ -83,14 +79,19 @@ vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
     vec3 v = normalize(worldFromDepth(uv, 1.0, pc.invViewProj) - position);
 
     vec3 color = emissive.rgb;
-    // The count comes from push constants: a loop bound the compiler sees as uniform.
-    for (uint i = 0u; i < pc.size.z; ++i) {
+    float sunVisibility = texelFetch(shadowMask, pixel, 0).r;
+    // Counts from push constants: loop bounds the compiler sees as uniform. No early-outs per
+    // pixel: a SIMD CPU driver pays for masked lanes anyway.
+    uint i = 0u;
+    for (; i < pc.size.z; ++i) {
+        GpuLight light = scene.lights[i];
+        vec3 f = evalBRDFCos(n, v, -light.directionRange.xyz, baseColor, metallic, roughness);
+        color += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sunVisibility : 1.0);
+    }
+    for (; i < pc.size.w; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
-        vec3 f = evalBRDFCos(n, v, l, baseColor, metallic, roughness);
-        if (all(equal(f, vec3(0.0)))) continue;
-        if (scene.lights[i].radiance.w > 0.0) f *= texelFetch(shadowMask, pixel, 0).r;
-        color += f * radiance;
+        color += evalBRDFCos(n, v, l, baseColor, metallic, roughness) * radiance;
     }
     color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));
     color += iblSpecularAmbient(n, v, roughness, specularF0(baseColor, metallic));

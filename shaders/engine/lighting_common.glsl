@@ -1,6 +1,6 @@
 // Scene-static lighting data (lights, shadow matrix, irradiance SH), written once by
-// engine/render/lighting.cpp (std430, mirrored there by GpuSceneLighting) and read by
-// lighting.comp and shadow_mask.comp.
+// engine/render/lighting.cpp (std140, all vec4 so std430 alike; mirrored there by
+// GpuSceneLighting) and read by lighting.comp and shadow_mask.comp.
 #ifndef SPECULUM_LIGHTING_COMMON_GLSL
 #define SPECULUM_LIGHTING_COMMON_GLSL
 
@@ -21,7 +21,7 @@ struct SceneLighting {
     vec4 shadowParams;    // x map size, y depth bias, z normal offset (world units), w enabled
     vec4 shadowToLight;   // xyz unit direction towards the shadowed light
     vec4 sh[9];           // irradiance SH / pi (environment.hpp)
-    uvec4 counts;         // x light count
+    uvec4 counts;         // x light count, y directional lights (they come first)
     GpuLight lights[kMaxLights];
 };
 

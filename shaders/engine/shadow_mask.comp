@@ -15,7 +15,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0) uniform sampler2D depthTex;         // D32 reversed-Z, texelFetch only
 layout(set = 0, binding = 1) uniform sampler2DShadow shadowMap;  // D32, compare GREATER_OR_EQUAL
-layout(set = 0, binding = 2, std430) readonly buffer SceneLightingBuffer {
+// A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
+layout(set = 0, binding = 2, std140) uniform SceneLightingBuffer {
     SceneLighting scene;
 };
 layout(set = 0, binding = 3) uniform writeonly image2D outMask;  // R8_UNORM
