@@ -49,36 +49,39 @@ vec3 incidentRadiance(GpuLight light, vec3 position, out vec3 l) {
 }
 
 // Image-based specular ambient (split-sum: GGX-prefiltered environment times the DFG scale and
-// bias). The reflections module replaces exactly this term for reflective pixels.
-vec3 iblSpecularAmbient(vec3 n, vec3 v, float perceptualRoughness, vec3 f0) {
-    vec3 r = reflect(-v, n);
+// bias). The reflections module replaces exactly this term for reflective pixels. Returns the
+// scale; the caller looks up the environment along r at lod (one lookup shared with the sky).
+vec3 iblSpecularWeight(vec3 n, vec3 v, float perceptualRoughness, vec3 f0, out vec3 r,
+                       out float lod) {
+    r = reflect(-v, n);
+    lod = perceptualRoughness * pc.cameraPosition.w;
     float NoV = clamp(dot(n, v), 0.0, 1.0);
-    vec3 prefiltered = textureLod(envSpecular, r, perceptualRoughness * pc.cameraPosition.w).rgb;
     vec2 dfg = textureLod(envDFG, vec2(NoV, perceptualRoughness), 0.0).rg;
-    return prefiltered * (f0 * dfg.x + dfg.y);
+    return f0 * dfg.x + dfg.y;
 }
 
 vec3 iblDiffuseAmbient(vec3 n, vec3 diffuse) {
     return diffuse * evalSH9(scene.sh, n);
 }
 
-vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
-    vec4 emissive = texelFetch(emissiveTex, pixel, 0);
-    uint flags = uint(emissive.a);
-    if ((flags & 1u) != 0u) return emissive.rgb;  // unlit: the base colour, untouched
+struct Shaded {
+    vec3 color;      // all but the specular ambient
+    vec3 envWeight;  // times the environment along envDir at envLod
+    vec3 envDir;
+    float envLod;
+};
 
+// v: unit direction towards the eye.
+Shaded shadeSurface(ivec2 pixel, vec3 position, vec3 v) {
     vec4 albedo = texelFetch(albedoTex, pixel, 0);
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
     vec3 n = normalize(normalRough.xyz);
     float roughness = normalRough.w;
     vec3 baseColor = albedo.rgb;
     float metallic = albedo.a;
-    vec3 position = worldFromDepth(uv, depth, pc.invViewProj);
-    // The near-plane point on the same ray: one transform instead of viewRayDirection's two,
-    // and right for orthographic views too.
-    vec3 v = normalize(worldFromDepth(uv, 1.0, pc.invViewProj) - position);
 
-    vec3 color = emissive.rgb;
+    Shaded s;
+    s.color = vec3(0.0);
     float sunVisibility = texelFetch(shadowMask, pixel, 0).r;
     // Counts from push constants: loop bounds the compiler sees as uniform. No early-outs per
     // pixel: a SIMD CPU driver pays for masked lanes anyway.
@@ -86,28 +89,36 @@ vec3 shadeSurface(ivec2 pixel, vec2 uv, float depth) {
     for (; i < pc.size.z; ++i) {
         GpuLight light = scene.lights[i];
         vec3 f = evalBRDFCos(n, v, -light.directionRange.xyz, baseColor, metallic, roughness);
-        color += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sunVisibility : 1.0);
+        s.color += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sunVisibility : 1.0);
     }
     for (; i < pc.size.w; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
-        color += evalBRDFCos(n, v, l, baseColor, metallic, roughness) * radiance;
+        s.color += evalBRDFCos(n, v, l, baseColor, metallic, roughness) * radiance;
     }
-    color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));
-    color += iblSpecularAmbient(n, v, roughness, specularF0(baseColor, metallic));
-    return color;
+    s.color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));
+    s.envWeight = iblSpecularWeight(n, v, roughness, specularF0(baseColor, metallic), s.envDir,
+                                    s.envLod);
+    return s;
 }
 
+// Sky, unlit and lit pixels share one straight path: a SIMD CPU driver (lavapipe) runs both
+// sides of a per-pixel branch anyway, so the sky and the specular ambient share one cube
+// lookup instead of paying for two.
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size.xy))) return;
     vec2 uv = pixelCenterUV(pixel, ivec2(pc.size.xy));
     float depth = texelFetch(depthTex, pixel, 0).r;
-    vec3 color;
-    if (depth <= 0.0) {
-        color = textureLod(envSpecular, viewRayDirection(uv, pc.invViewProj), 0.0).rgb;
-    } else {
-        color = shadeSurface(pixel, uv, depth);
-    }
+    bool sky = depth <= 0.0;
+    // Depth 0 has no finite position: the sky takes the ray's direction from a point at 0.5,
+    // as viewRayDirection does. The near-plane point makes v right for orthographic views too.
+    vec3 position = worldFromDepth(uv, sky ? 0.5 : depth, pc.invViewProj);
+    vec3 v = normalize(worldFromDepth(uv, 1.0, pc.invViewProj) - position);
+    Shaded s = shadeSurface(pixel, position, v);
+    vec3 env = textureLod(envSpecular, sky ? -v : s.envDir, sky ? 0.0 : s.envLod).rgb;
+    vec4 emissive = texelFetch(emissiveTex, pixel, 0);
+    bool unlit = (uint(emissive.a) & 1u) != 0u;  // the base colour, untouched
+    vec3 color = sky ? env : unlit ? emissive.rgb : emissive.rgb + s.color + env * s.envWeight;
     imageStore(outLinear, pixel, vec4(color, 1.0));
 }
