@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <tuple>
 
 namespace speculum::render {
 namespace {
@@ -140,7 +141,6 @@ void Renderer::Impl::createGBufferPipelines() {
 
     gpu::GraphicsPipelineDesc g;
     g.vertexShader = "engine/gbuffer.vert";
-    g.fragmentShader = "engine/gbuffer.frag";
     g.bindings = kGBufferBindings;
     g.pushConstantBytes = sizeof(DrawConstants);
     g.colorFormats = {kAlbedoFormat, kNormalFormat, kEmissiveFormat, kMotionFormat};
@@ -149,9 +149,13 @@ void Renderer::Impl::createGBufferPipelines() {
     for (int i = 0; i < 3; ++i) {
         prepass.cull = g.cull = kCull[i];
         prepass.name = std::string("render.depth_prepass") + kSuffix[i];
-        g.name = std::string("render.gbuffer") + kSuffix[i];
         prepassPipelines[i] = gpu::createGraphicsPipeline(ctx, prepass);
-        gbufferPipelines[i] = gpu::createGraphicsPipeline(ctx, g);
+        g.fragmentShader = "engine/gbuffer.frag";
+        g.name = std::string("render.gbuffer") + kSuffix[i];
+        gbufferPipelines[0][i] = gpu::createGraphicsPipeline(ctx, g);
+        g.fragmentShader = "engine/gbuffer_untextured.frag";
+        g.name = std::string("render.gbuffer.untextured") + kSuffix[i];
+        gbufferPipelines[1][i] = gpu::createGraphicsPipeline(ctx, g);
     }
 
     frameConstants =
@@ -160,7 +164,8 @@ void Renderer::Impl::createGBufferPipelines() {
                     "render.frame_constants");
     // Fewer pipeline and descriptor switches: group draws by pipeline, then material.
     auto key = [&](const DrawItem& d) {
-        return std::pair(int(cullKind(d, gpuScene.materials[d.material])), d.material);
+        const GpuMaterial& m = gpuScene.materials[d.material];
+        return std::tuple(int(cullKind(d, m)), m.untextured, d.material);
     };
     std::stable_sort(gpuScene.draws.begin(), gpuScene.draws.end(),
                      [&](const DrawItem& a, const DrawItem& b) { return key(a) < key(b); });
@@ -197,7 +202,7 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
     uint32_t boundMaterial = ~0u;
     for (const DrawItem& d : gpuScene.draws) {
         const GpuMaterial& m = gpuScene.materials[d.material];
-        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines, d, m);
+        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m);
         if (p != bound) {
             p->bind(cmd);
             bound = p;

@@ -27,6 +27,7 @@ struct GpuMaterial {
     float normalScale = 1.0f;
     uint32_t flags = 0;  // kFlagUnlit | kFlagReflective
     bool doubleSided = false;
+    bool untextured = false;  // all four views are 1x1 defaults: the G-buffer samples none
     VkImageView baseColorView = VK_NULL_HANDLE;
     VkImageView metallicRoughnessView = VK_NULL_HANDLE;
     VkImageView normalView = VK_NULL_HANDLE;
@@ -78,7 +79,7 @@ struct Renderer::Impl {
     gpu::Pipeline shadowMaskPipeline;
     // Indexed by CullKind (gbuffer.cpp): the prepass must cull exactly as the G-buffer does.
     gpu::Pipeline prepassPipelines[3];
-    gpu::Pipeline gbufferPipelines[3];
+    gpu::Pipeline gbufferPipelines[2][3];  // [GpuMaterial::untextured][CullKind]
     gpu::Pipeline lightingPipeline;
     gpu::Pipeline tonemapPipeline;
 

@@ -151,6 +151,9 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
         // glTF: emissive texture multiplies the factor; without one the factor stands alone.
         g.emissiveView = pick(m.emissiveTexture, srgbView, white);
         if (m.emissive == glm::vec3(0.0f)) g.emissiveView = black;
+        g.untextured = g.baseColorView == white && g.metallicRoughnessView == whiteLinear &&
+                       g.normalView == flatNormal &&
+                       (g.emissiveView == white || g.emissiveView == black);
         return g;
     };
     for (const Material& m : scene.materials) gpuScene.materials.push_back(resolve(m));
