@@ -13,7 +13,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0) uniform sampler2D depthTex;         // D32 reversed-Z, texelFetch only
+layout(set = 0, binding = 0) uniform sampler2D depthTex;         // D32 reversed-Z, gathered
 layout(set = 0, binding = 1) uniform sampler2DShadow shadowMap;  // D32, compare GREATER_OR_EQUAL
 // A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
 layout(set = 0, binding = 2, std140) uniform SceneLightingBuffer {
@@ -31,34 +31,46 @@ vec3 worldAt(ivec2 pixel, float depth) {
     return worldFromDepth(pixelCenterUV(pixel, ivec2(pc.size.xy)), depth, pc.invViewProj);
 }
 
-// Depth of a neighbour, or 0 (no surface) outside the image.
-float depthAt(ivec2 pixel) {
-    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(uvec2(pixel), pc.size.xy)))
-        return 0.0;
-    return texelFetch(depthTex, pixel, 0).r;
+// The pixel's depth and its four neighbours' (0, no surface, outside the image) from two
+// gathers at the pixel's corners instead of five fetches.
+struct Neighbourhood {
+    float centre, left, right, up, down;
+};
+Neighbourhood depthsAround(ivec2 pixel) {
+    vec2 size = vec2(pc.size.xy);
+    // Gather order: x (i0, j1), y (i1, j1), z (i1, j0), w (i0, j0).
+    vec4 tl = textureGather(depthTex, vec2(pixel) / size, 0);
+    vec4 br = textureGather(depthTex, (vec2(pixel) + 1.0) / size, 0);
+    Neighbourhood d;
+    d.centre = tl.y;
+    d.left = pixel.x > 0 ? tl.x : 0.0;
+    d.up = pixel.y > 0 ? tl.z : 0.0;
+    d.right = pixel.x + 1 < int(pc.size.x) ? br.z : 0.0;
+    d.down = pixel.y + 1 < int(pc.size.y) ? br.x : 0.0;
+    return d;
 }
 
 // One tangent of the visible surface along an image axis: towards the neighbour whose depth
 // is closer to the centre's, so that silhouettes do not bend the normal towards the background.
-bool tangentAlong(ivec2 pixel, ivec2 axis, float depth, vec3 position, out vec3 tangent) {
-    float dn = depthAt(pixel - axis);
-    float dp = depthAt(pixel + axis);
+// The side is chosen before the one unprojection (lavapipe would compute both sides of a
+// branch or select).
+bool tangentAlong(ivec2 pixel, ivec2 axis, float dn, float depth, float dp, vec3 position,
+                  out vec3 tangent) {
     float en = dn > 0.0 ? abs(dn - depth) : 1e30;
     float ep = dp > 0.0 ? abs(dp - depth) : 1e30;
-    if (min(en, ep) >= 1e30) return false;
-    tangent = ep <= en ? worldAt(pixel + axis, dp) - position : position - worldAt(pixel - axis, dn);
-    return true;
+    float side = ep <= en ? 1.0 : -1.0;
+    tangent = (worldAt(pixel + axis * int(side), side > 0.0 ? dp : dn) - position) * side;
+    return min(en, ep) < 1e30;
 }
 
 // Geometric normal of the depth buffer's surface, facing the camera. Falls back to the view
 // direction for single-pixel features, which makes the normal offset a plain view offset.
-vec3 geometricNormal(ivec2 pixel, float depth, vec3 position) {
+vec3 geometricNormal(ivec2 pixel, Neighbourhood d, vec3 position) {
     vec3 toEye = pc.cameraPosition.xyz - position;
     vec3 tx, ty;
-    vec3 n = toEye;
-    if (tangentAlong(pixel, ivec2(1, 0), depth, position, tx) &&
-        tangentAlong(pixel, ivec2(0, 1), depth, position, ty))
-        n = cross(tx, ty);
+    bool ok = tangentAlong(pixel, ivec2(1, 0), d.left, d.centre, d.right, position, tx);
+    ok = tangentAlong(pixel, ivec2(0, 1), d.up, d.centre, d.down, position, ty) && ok;
+    vec3 n = ok ? cross(tx, ty) : toEye;
     float len2 = dot(n, n);
     if (!(len2 > 1e-30)) n = toEye, len2 = dot(n, n);
     n *= inversesqrt(len2);
@@ -88,11 +100,11 @@ float sunVisibility(vec3 position, vec3 n) {
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size.xy))) return;
-    float depth = texelFetch(depthTex, pixel, 0).r;
+    Neighbourhood d = depthsAround(pixel);
     float visibility = 1.0;
-    if (depth > 0.0) {
-        vec3 position = worldAt(pixel, depth);
-        visibility = sunVisibility(position, geometricNormal(pixel, depth, position));
+    if (d.centre > 0.0) {
+        vec3 position = worldAt(pixel, d.centre);
+        visibility = sunVisibility(position, geometricNormal(pixel, d, position));
     }
     imageStore(outMask, pixel, vec4(visibility));
 }
