@@ -57,10 +57,9 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
                                     const Environment& env, uint32_t shadowMapSize) {
     GpuSceneLighting s{};
     s.shadowViewProj = shadow.viewProj;
-    // Normal offset of 1.5 texels and a one-texel constant bias (in depth units, the map spans
-    // 2r of depth over [0, 1]) keep lit planes free of acne under the mask's 2x2 filter.
-    float depthPerTexel = 1.0f / float(std::max(shadowMapSize, 1u));
-    s.shadowParams = glm::vec4(float(shadowMapSize), depthPerTexel, 1.5f * shadow.worldTexel,
+    // Normal offset of 1.5 texels and a constant bias of one texel's world size in depth keep
+    // lit planes free of acne under the mask's 2x2 filter.
+    s.shadowParams = glm::vec4(float(shadowMapSize), shadow.depthTexel, 1.5f * shadow.worldTexel,
                                shadow.enabled ? 1.0f : 0.0f);
     s.shadowToLight = glm::vec4(shadow.toLight, 0.0f);
     s.sh = env.irradianceSH();

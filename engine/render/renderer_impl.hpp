@@ -54,6 +54,7 @@ struct ShadowSetup {
     glm::mat4 viewProj{1.0f};
     glm::vec3 toLight{0.0f, 1.0f, 0.0f};  // unit
     float worldTexel = 0.0f;              // world size of one shadow texel
+    float depthTexel = 0.0f;              // worldTexel in shadow depth units
 };
 
 // Binds the scene's vertex and index buffers (gbuffer.cpp).

@@ -1,7 +1,7 @@
 // render.shadow and render.shadow_mask.
 //
-// Shadow map: orthographic projection fitted to the scene's bounding sphere, looking along the
-// first directional light, reversed-Z like the main view (1 nearest the light, cleared to 0,
+// Shadow map: orthographic projection fitted to the scene's bounds as the first directional
+// light sees them, reversed-Z like the main view (1 nearest the light, cleared to 0,
 // GREATER_OR_EQUAL), D32. Bias: a slope-scaled raster bias away from the light plus a
 // normal offset and constant bias at lookup time (shadow_mask.comp).
 //
@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace speculum::render {
 namespace {
@@ -49,12 +50,31 @@ ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize) {
     glm::vec3 center = (scene.boundsMin + scene.boundsMax) * 0.5f;
     float radius = std::max(glm::length(scene.boundsMax - scene.boundsMin) * 0.5f, 1e-3f);
     glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-    // The light camera sits 2r back from the centre: the sphere spans depths r..3r.
     glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
-    s.viewProj = orthographicShadowProjection(radius, radius, 3.0f * radius) * view;
+    // Fitted to the bounds' eight corners seen from the light rather than to the bounding
+    // sphere: the same map covers less empty space, so its texels are smaller.
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (int i = 0; i < 8; ++i) {
+        glm::vec3 corner((i & 1) ? scene.boundsMax.x : scene.boundsMin.x,
+                         (i & 2) ? scene.boundsMax.y : scene.boundsMin.y,
+                         (i & 4) ? scene.boundsMax.z : scene.boundsMin.z);
+        glm::vec3 p = glm::vec3(view * glm::vec4(corner, 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    // Square texels; a margin of a few texels keeps normal-offset lookups at the edges inside.
+    float half = std::max(std::max(hi.x - lo.x, hi.y - lo.y) * 0.5f, 1e-3f);
+    half *= 1.0f + 8.0f / float(std::max(mapSize, 1u));
+    glm::vec2 mid = (glm::vec2(lo) + glm::vec2(hi)) * 0.5f;
+    view = glm::translate(glm::mat4(1.0f), glm::vec3(-mid, 0.0f)) * view;
+    // The view looks down -z; a 1% margin keeps the nearest and farthest surfaces unclipped.
+    float depthMargin = 0.01f * (hi.z - lo.z) + 1e-3f;
+    float znear = -hi.z - depthMargin, zfar = -lo.z + depthMargin;
+    s.viewProj = orthographicShadowProjection(half, znear, zfar) * view;
     s.enabled = true;
     s.toLight = -dir;
-    s.worldTexel = 2.0f * radius / float(std::max(mapSize, 1u));
+    s.worldTexel = 2.0f * half / float(std::max(mapSize, 1u));
+    s.depthTexel = s.worldTexel / (zfar - znear);
     return s;
 }
 
