@@ -78,8 +78,9 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
     // Directional lights first, so that the shader runs one loop per kind without a branch on
     // the type (both sides of which a SIMD CPU driver would execute); the shadowed one (the
     // first directional) stays first.
-    auto directional = std::stable_partition(s.lights.begin(), s.lights.begin() + count,
-                                             [](const GpuLight& g) { return g.positionType.w == 0.0f; });
+    auto isDirectional = [](const GpuLight& g) { return g.positionType.w == 0.0f; };
+    auto directional =
+        std::stable_partition(s.lights.begin(), s.lights.begin() + count, isDirectional);
     s.counts = glm::uvec4(count, uint32_t(directional - s.lights.begin()), 0, 0);
     return s;
 }

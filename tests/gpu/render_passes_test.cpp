@@ -165,6 +165,20 @@ TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(top[i], sky[i], 2e-3f);
 }
 
+// The scene's extras.exposure sets the exposure and RendererOptions::exposure (the
+// render.exposure setting) scales it, so that a user's adjustment is relative to the scene.
+TEST_F(RenderPasses, SceneExposureMultipliesTheExposureOption) {
+    Scene scene;
+    nlohmann::json gltfScene = {{"nodes", nlohmann::json::array()},
+                                {"extras", {{"exposure", 4.0}}}};
+    scene.document = {{"scenes", {gltfScene}}};
+    Renderer renderer(ctx, scene, {.shadowMapSize = 256, .exposure = 0.5f});
+    EXPECT_FLOAT_EQ(renderer.options().exposure, 2.0f);
+    scene.document["scenes"][0]["extras"].erase("exposure");
+    Renderer plain(ctx, scene, {.shadowMapSize = 256, .exposure = 0.5f});
+    EXPECT_FLOAT_EQ(plain.options().exposure, 0.5f);
+}
+
 TEST_F(RenderPasses, BackFacesAreCulledUnlessDoubleSided) {
     Scene scene;
     auto unlit = [](glm::vec3 c, bool doubleSided) {

@@ -57,7 +57,8 @@ TEST_F(RenderShadow, MaskIsZeroUnderAnOccluderAndOneInTheOpen) {
 
     // Lighting applies the mask: the shadowed ground is darker than the open ground.
     glm::ivec2 dark = pixelOf(cam, shadowCentre), lit = pixelOf(cam, glm::vec3(4, 0, 2));
-    EXPECT_LT(f.at("render.linear", dark.x, dark.y).g, 0.5f * f.at("render.linear", lit.x, lit.y).g);
+    EXPECT_LT(f.at("render.linear", dark.x, dark.y).g,
+              0.5f * f.at("render.linear", lit.x, lit.y).g);
 }
 
 // No directional light: no shadow passes, and lighting binds a fully lit stand-in.

@@ -1,6 +1,6 @@
 // The deferred renderer: depth prepass, shadow map and screen-space shadow mask for one
-// directional light, G-buffer, GGX + Lambert lighting with image-based ambient, tonemapping. It adds its passes to a frame graph and returns typed
-// handles, like every module.
+// directional light, G-buffer, GGX + Lambert lighting with image-based ambient, tonemapping.
+// It adds its passes to a frame graph and returns typed handles, like every module.
 #pragma once
 
 #include "speculum/framegraph.hpp"
