@@ -84,19 +84,5 @@ const char* layoutName(VkImageLayout layout);
 
 namespace speculum {
 
-// Barriers and views use the depth aspect alone for depth/stencil formats: the graph tracks
-// depth layouts (DEPTH_ATTACHMENT_OPTIMAL, DEPTH_READ_ONLY_OPTIMAL), which apply to one aspect.
-inline VkImageAspectFlags aspectOf(VkFormat format) {
-    switch (format) {
-    case VK_FORMAT_D16_UNORM:
-    case VK_FORMAT_X8_D24_UNORM_PACK32:
-    case VK_FORMAT_D32_SFLOAT:
-    case VK_FORMAT_D16_UNORM_S8_UINT:
-    case VK_FORMAT_D24_UNORM_S8_UINT:
-    case VK_FORMAT_D32_SFLOAT_S8_UINT: return VK_IMAGE_ASPECT_DEPTH_BIT;
-    case VK_FORMAT_S8_UINT: return VK_IMAGE_ASPECT_STENCIL_BIT;
-    default: return VK_IMAGE_ASPECT_COLOR_BIT;
-    }
-}
 
 }  // namespace speculum

@@ -1,6 +1,7 @@
 #include "speculum/gpu/resources.hpp"
 
 #include "speculum/core.hpp"
+#include "speculum/framegraph.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -18,11 +19,6 @@ Unique<VkDeviceMemory> allocate(const Context& ctx, const VkMemoryRequirements& 
     VkDeviceMemory memory;
     check(vkAllocateMemory(ctx.device(), &info, nullptr, &memory), "vkAllocateMemory");
     return {ctx.device(), memory, vkFreeMemory};
-}
-
-bool isDepth(VkFormat f) {
-    return f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D16_UNORM || f == VK_FORMAT_D24_UNORM_S8_UINT ||
-           f == VK_FORMAT_D32_SFLOAT_S8_UINT;
 }
 
 float halfToFloat(uint16_t h) {
@@ -156,7 +152,7 @@ Image::Image(const Context& ctx, const ImageDesc& desc, const std::string& name)
 }
 
 VkImageAspectFlags Image::aspect() const {
-    return isDepth(desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+    return aspectOf(desc_.format);
 }
 
 Unique<VkSampler> createSampler(const Context& ctx, VkFilter filter, VkSamplerAddressMode address, bool mipmaps,
@@ -241,7 +237,7 @@ std::vector<float> readImageRGBA(const Context& ctx, VkImage image, const ImageD
     uint32_t w = std::max(1u, desc.width >> mip), h = std::max(1u, desc.height >> mip);
     size_t bpp = bytesPerPixel(desc.format);
     Buffer staging(ctx, VkDeviceSize(w) * h * bpp, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "gpu.readback");
-    VkImageAspectFlags aspect = isDepth(desc.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+    VkImageAspectFlags aspect = aspectOf(desc.format);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         transition(cmd, image, aspect, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, mip, 1, layer, 1);
         VkBufferImageCopy copy{};

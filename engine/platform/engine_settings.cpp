@@ -5,7 +5,7 @@ namespace speculum::app {
 std::vector<SettingDesc> engineSettingsTable() {
     return {
         {"render.exposure", SettingType::Float, "x", 0.001, 1000.0, 1.0, {},
-         "Linear exposure multiplier before tonemapping (the scene's extras.exposure sets it first)."},
+         "Linear exposure multiplier before tonemapping; multiplies the scene's extras.exposure."},
         {"render.shadow_map_size", SettingType::Int, "px", 64, 8192, 2048, {},
          "Edge of the directional light's shadow map."},
         {"render.environment_size", SettingType::Int, "px", 16, 2048, 256, {},

@@ -26,7 +26,6 @@ struct AovSource {
     TextureHandle texture;
     uint32_t channels = 4;
     int sourceChannel = -1;  // >= 0: the AOV is this single channel of the texture
-    bool depth = false;
 };
 
 }  // namespace
@@ -66,7 +65,7 @@ struct FrameRunner::Impl {
     std::map<std::string, AovSource> aovSources(const render::GBuffer& g, TextureHandle lit, TextureHandle color) {
         return {
             {"linear", {lit, 3}},           {"color", {color, 3}},
-            {"depth", {g.depth, 1, 0, true}}, {"normal", {g.normal, 3}},
+            {"depth", {g.depth, 1, 0}}, {"normal", {g.normal, 3}},
             {"roughness", {g.normal, 1, 3}}, {"motion", {g.motion, 2}},
         };
     }
@@ -103,10 +102,8 @@ void FrameRunner::Impl::addReadback(FrameGraph& fg, const std::map<std::string, 
                     it = readback.insert_or_assign(info.name, gpu::Buffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                                                           true, "capture.readback." + info.name))
                              .first;
-                bool depth = info.desc.format == render::kDepthFormat;
                 VkBufferImageCopy copy{};
-                copy.imageSubresource = {VkImageAspectFlags(depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-                                         0, 0, 1};
+                copy.imageSubresource = {aspectOf(info.desc.format), 0, 0, 1};
                 copy.imageExtent = {info.desc.width, info.desc.height, 1};
                 vkCmdCopyImageToBuffer(pc.cmd(), pc.image(h), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, it->second.get(), 1,
                                        &copy);

@@ -314,6 +314,9 @@ struct AccessInfo {
 AccessInfo accessOf(TextureUsage usage, PassType type);
 AccessInfo accessOf(BufferUsage usage, PassType type);
 VkImageUsageFlags imageUsageOf(TextureUsage usage);
+// The aspect barriers and views use: depth alone for depth/stencil formats (the graph tracks
+// depth layouts, which apply to one aspect), stencil for S8, colour otherwise.
+VkImageAspectFlags aspectOf(VkFormat format);
 VkBufferUsageFlags bufferUsageOf(BufferUsage usage);
 
 }  // namespace speculum
