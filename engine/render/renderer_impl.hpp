@@ -59,6 +59,9 @@ struct ShadowSetup {
 
 // Binds the scene's vertex and index buffers (gbuffer.cpp).
 void bindSceneGeometry(VkCommandBuffer cmd, const SceneGpu& scene);
+// Begins rendering into one colour attachment that a fullscreen triangle (fullscreen.vert)
+// covers entirely (load DONT_CARE), with the viewport and scissor set to extent.
+void beginFullscreenRendering(VkCommandBuffer cmd, VkExtent2D extent, VkImageView color);
 ShadowSetup fitShadow(const Scene& scene, uint32_t mapSize);
 
 struct Renderer::Impl {
