@@ -1,4 +1,4 @@
-// render.lighting: a compute pass, one thread per pixel (lighting.comp). Lights, the shadow
+// render.lighting: a fullscreen fragment pass, one invocation per pixel (lighting.frag). Lights, the shadow
 // matrix and the irradiance SH never change for a scene, so they live in one buffer written at
 // construction; per-frame data fits in push constants.
 #include "renderer_impl.hpp"
@@ -88,20 +88,20 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
 }  // namespace
 
 void Renderer::Impl::createLightingResources() {
-    lightingPipeline = gpu::createComputePipeline(
-        ctx, "engine/lighting.comp",
-        {
-            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
-        },
-        sizeof(LightingConstants), "render.lighting");
+    gpu::GraphicsPipelineDesc d;
+    d.vertexShader = "engine/fullscreen.vert";
+    d.fragmentShader = "engine/lighting.frag";
+    for (uint32_t b = 0; b < 7; ++b)
+        d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
+    d.bindings.push_back({7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT});
+    d.pushConstantBytes = sizeof(LightingConstants);
+    d.colorFormats = {kLinearFormat};
+    d.depthTest = false;
+    d.depthWrite = false;
+    d.cull = VK_CULL_MODE_NONE;
+    d.vertexInput = false;
+    d.name = "render.lighting";
+    lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
     GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
     lightCounts = glm::uvec2(data.counts.y, data.counts.x);
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
@@ -116,6 +116,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     VkExtent2D extent = pass.extent(out);
     VkSampler nearest = nearestSampler;
     VkImageView maskView = g.shadowMask.valid() ? pass.view(g.shadowMask) : dummyShadowMask.view();
+    beginFullscreenRendering(cmd, extent, pass.view(out));
     lightingPipeline.bind(cmd);
     gpu::DescriptorWriter()
         .sampled(0, pass.view(g.depth), nearest)
@@ -126,14 +127,14 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .sampled(5, environment->specular().view(), environment->sampler())
         .sampled(6, environment->dfg().view(), environment->sampler())
         .buffer(7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
-        .storage(8, pass.view(out))
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
                         glm::uvec4(extent.width, extent.height, lightCounts)};
-    vkCmdPushConstants(cmd, lightingPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(c),
-                       &c);
-    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+    vkCmdPushConstants(cmd, lightingPipeline.layout(),
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
 }
 
 TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& frame,
@@ -144,7 +145,7 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
     };
     Impl* impl = impl_.get();
     const auto& d = graph.addPass<LightingData>(
-        "render.lighting", PassType::Compute,
+        "render.lighting", PassType::Raster,
         [&](PassBuilder& b, LightingData& data) {
             data.g.depth = b.read(gbuffer.depth, TextureUsage::Sampled);
             data.g.albedo = b.read(gbuffer.albedo, TextureUsage::Sampled);
@@ -153,7 +154,7 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
             if (gbuffer.shadowMask.valid())
                 data.g.shadowMask = b.read(gbuffer.shadowMask, TextureUsage::Sampled);
             data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),
-                                  TextureUsage::StorageWrite);
+                                  TextureUsage::ColorAttachment);
         },
         [impl, frame](const LightingData& data, PassContext& ctx) {
             impl->recordLighting(ctx, frame, data.g, data.linear);

@@ -1,12 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// render.lighting: one thread per pixel reads the G-buffer and writes HDR radiance.
+// render.lighting: a fullscreen fragment pass (fullscreen.vert) reads the G-buffer and writes HDR
+// radiance into the colour attachment (lavapipe stores attachment tiles far faster than imageStore).
 #include "common/brdf.glsl"
 #include "common/camera.glsl"
 #include "common/sh.glsl"
 #include "engine/lighting_common.glsl"
-
-layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0) uniform sampler2D depthTex;     // D32 reversed-Z, texelFetch only
 layout(set = 0, binding = 1) uniform sampler2D albedoTex;
@@ -19,7 +18,7 @@ layout(set = 0, binding = 6) uniform sampler2D envDFG;
 layout(set = 0, binding = 7, std140) uniform SceneLightingBuffer {
     SceneLighting scene;
 };
-layout(set = 0, binding = 8, rgba16f) uniform writeonly image2D outLinear;
+layout(location = 0) out vec4 outLinear;
 
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
@@ -106,8 +105,7 @@ Shaded shadeSurface(ivec2 pixel, vec3 position, vec3 v) {
 // sides of a per-pixel branch anyway, so the sky and the specular ambient share one cube
 // lookup instead of paying for two.
 void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(uvec2(pixel), pc.size.xy))) return;
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec2 uv = pixelCenterUV(pixel, ivec2(pc.size.xy));
     float depth = texelFetch(depthTex, pixel, 0).r;
     bool sky = depth <= 0.0;
@@ -120,5 +118,5 @@ void main() {
     vec4 emissive = texelFetch(emissiveTex, pixel, 0);
     bool unlit = (uint(emissive.a) & 1u) != 0u;  // the base colour, untouched
     vec3 color = sky ? env : unlit ? emissive.rgb : emissive.rgb + s.color + env * s.envWeight;
-    imageStore(outLinear, pixel, vec4(color, 1.0));
+    outLinear = vec4(color, 1.0);
 }
