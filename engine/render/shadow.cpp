@@ -3,7 +3,7 @@
 // Shadow map: orthographic projection fitted to the scene's bounds as the first directional
 // light sees them, reversed-Z like the main view (1 nearest the light, cleared to 0,
 // GREATER_OR_EQUAL), D32. Bias: a slope-scaled raster bias away from the light plus a
-// normal offset and constant bias at lookup time (shadow_mask.comp).
+// normal offset and constant bias at lookup time (shadow_mask.frag).
 //
 // The mask pass resolves the map into one byte of filtered visibility per pixel right after
 // the depth prepass, so the map (16 MiB at 2048^2) is dead before the G-buffer targets exist
@@ -89,15 +89,22 @@ void Renderer::Impl::createShadowResources() {
     desc.name = "render.shadow";
     shadowPipeline = gpu::createGraphicsPipeline(ctx, desc);
 
-    shadowMaskPipeline = gpu::createComputePipeline(
-        ctx, "engine/shadow_mask.comp",
-        {
-            {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-            {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
-        },
-        sizeof(MaskConstants), "render.shadow_mask");
+    gpu::GraphicsPipelineDesc mask;
+    mask.vertexShader = "engine/fullscreen.vert";
+    mask.fragmentShader = "engine/shadow_mask.frag";
+    mask.bindings = {
+        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+    };
+    mask.pushConstantBytes = sizeof(MaskConstants);
+    mask.colorFormats = {VK_FORMAT_R8_UNORM};
+    mask.depthTest = false;
+    mask.depthWrite = false;
+    mask.cull = VK_CULL_MODE_NONE;
+    mask.vertexInput = false;
+    mask.name = "render.shadow_mask";
+    shadowMaskPipeline = gpu::createGraphicsPipeline(ctx, mask);
     shadowCompareSampler = createCompareSampler(ctx);
 
     // Bound by lighting when there is no directional light: nothing is shadowed then.
@@ -147,18 +154,19 @@ void Renderer::Impl::recordShadowMask(PassContext& pass, const FrameInputs& fram
                                       TextureHandle out) const {
     VkCommandBuffer cmd = pass.cmd();
     VkExtent2D extent = pass.extent(out);
+    beginFullscreenRendering(cmd, extent, pass.view(out));
     shadowMaskPipeline.bind(cmd);
     gpu::DescriptorWriter()
         .sampled(0, pass.view(depth), nearestSampler)
         .sampled(1, pass.view(map), shadowCompareSampler)
         .buffer(2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
-        .storage(3, pass.view(out))
         .push(ctx, cmd, shadowMaskPipeline);
     MaskConstants c{frame.camera.invViewProj, glm::vec4(frame.camera.position, 0.0f),
                     glm::uvec4(extent.width, extent.height, 0, 0)};
-    vkCmdPushConstants(cmd, shadowMaskPipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                       sizeof(c), &c);
-    vkCmdDispatch(cmd, (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+    vkCmdPushConstants(cmd, shadowMaskPipeline.layout(),
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
 }
 
 TextureHandle Renderer::Impl::addShadowPasses(FrameGraph& graph, const FrameInputs& frame,
@@ -182,12 +190,13 @@ TextureHandle Renderer::Impl::addShadowPasses(FrameGraph& graph, const FrameInpu
         TextureHandle depth, map, mask;
     };
     const auto& m = graph.addPass<MaskData>(
-        "render.shadow_mask", PassType::Compute,
+        "render.shadow_mask", PassType::Raster,
         [&](PassBuilder& b, MaskData& d) {
             d.depth = b.read(depth, TextureUsage::Sampled);
             d.map = b.read(s.map, TextureUsage::Sampled);
             TextureDesc desc{.format = VK_FORMAT_R8_UNORM};
-            d.mask = b.write(b.create("render.shadow_mask", desc), TextureUsage::StorageWrite);
+            d.mask =
+                b.write(b.create("render.shadow_mask", desc), TextureUsage::ColorAttachment);
         },
         [this, frame](const MaskData& d, PassContext& ctx) {
             recordShadowMask(ctx, frame, d.depth, d.map, d.mask);

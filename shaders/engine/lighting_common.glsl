@@ -1,6 +1,6 @@
 // Scene-static lighting data (lights, shadow matrix, irradiance SH), written once by
 // engine/render/lighting.cpp (std140, all vec4 so std430 alike; mirrored there by
-// GpuSceneLighting) and read by lighting.frag and shadow_mask.comp.
+// GpuSceneLighting) and read by lighting.frag and shadow_mask.frag.
 #ifndef SPECULUM_LIGHTING_COMMON_GLSL
 #define SPECULUM_LIGHTING_COMMON_GLSL
 

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// render.shadow_mask: the sun's filtered visibility per pixel, from the depth prepass and the
+// render.shadow_mask: the sun's filtered visibility per pixel (a fullscreen fragment pass into an
+// R8 colour attachment, cheaper on lavapipe than compute imageStore), from the depth prepass and the
 // shadow map, so that the 16 MiB map dies before the G-buffer exists and lighting reads one
 // byte instead of filtering.
 //
@@ -11,15 +12,13 @@
 #include "common/camera.glsl"
 #include "engine/lighting_common.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
-
 layout(set = 0, binding = 0) uniform sampler2D depthTex;         // D32 reversed-Z, gathered
 layout(set = 0, binding = 1) uniform sampler2DShadow shadowMap;  // D32, compare GREATER_OR_EQUAL
 // A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
 layout(set = 0, binding = 2, std140) uniform SceneLightingBuffer {
     SceneLighting scene;
 };
-layout(set = 0, binding = 3) uniform writeonly image2D outMask;  // R8_UNORM
+layout(location = 0) out vec4 outMask;  // R8_UNORM
 
 layout(push_constant) uniform MaskConstants {
     mat4 invViewProj;
@@ -98,13 +97,12 @@ float sunVisibility(vec3 position, vec3 n) {
 }
 
 void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(uvec2(pixel), pc.size.xy))) return;
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
     Neighbourhood d = depthsAround(pixel);
     float visibility = 1.0;
     if (d.centre > 0.0) {
         vec3 position = worldAt(pixel, d.centre);
         visibility = sunVisibility(position, geometricNormal(pixel, d, position));
     }
-    imageStore(outMask, pixel, vec4(visibility));
+    outMask = vec4(visibility);
 }
