@@ -78,12 +78,21 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = vs;
     stages[0].pName = "main";
+    std::vector<VkSpecializationMapEntry> specEntries;
+    VkSpecializationInfo spec{};
+    for (uint32_t i = 0; i < d.fragmentConstants.size(); ++i)
+        specEntries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+    spec.mapEntryCount = uint32_t(specEntries.size());
+    spec.pMapEntries = specEntries.data();
+    spec.dataSize = d.fragmentConstants.size() * sizeof(uint32_t);
+    spec.pData = d.fragmentConstants.data();
     if (!d.fragmentShader.empty()) {
         fs = loadShader(ctx, d.fragmentShader);
         VkPipelineShaderStageCreateInfo f{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         f.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
         f.module = fs;
         f.pName = "main";
+        if (!specEntries.empty()) f.pSpecializationInfo = &spec;
         stages.push_back(f);
     }
 

@@ -88,6 +88,8 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
 }  // namespace
 
 void Renderer::Impl::createLightingResources() {
+    GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
+    lightCounts = glm::uvec2(data.counts.y, data.counts.x);
     gpu::GraphicsPipelineDesc d;
     d.vertexShader = "engine/fullscreen.vert";
     d.fragmentShader = "engine/lighting.frag";
@@ -100,10 +102,10 @@ void Renderer::Impl::createLightingResources() {
     d.depthWrite = false;
     d.cull = VK_CULL_MODE_NONE;
     d.vertexInput = false;
+    // The light counts are specialization constants: the shader's light loops unroll.
+    d.fragmentConstants = {lightCounts.x, lightCounts.y};
     d.name = "render.lighting";
     lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
-    GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
-    lightCounts = glm::uvec2(data.counts.y, data.counts.x);
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
                                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_lighting");
     nearestSampler =

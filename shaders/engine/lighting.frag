@@ -11,7 +11,7 @@ layout(set = 0, binding = 0) uniform sampler2D depthTex;     // D32 reversed-Z, 
 layout(set = 0, binding = 1) uniform sampler2D albedoTex;
 layout(set = 0, binding = 2) uniform sampler2D normalTex;
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
-layout(set = 0, binding = 4) uniform sampler2D shadowMask;   // R8 sun visibility (shadow_mask.comp)
+layout(set = 0, binding = 4) uniform sampler2D shadowMask;   // R8 sun visibility (shadow_mask.frag)
 layout(set = 0, binding = 5) uniform samplerCube envSpecular;
 layout(set = 0, binding = 6) uniform sampler2D envDFG;
 // A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
@@ -20,10 +20,16 @@ layout(set = 0, binding = 7, std140) uniform SceneLightingBuffer {
 };
 layout(location = 0) out vec4 outLinear;
 
+// The scene's light counts (they never change for a scene): constant loop bounds let the
+// compiler unroll the light loops, so every light's uniform loads have constant offsets (a
+// SIMD CPU driver gathers per lane from a loop-counter offset).
+layout(constant_id = 0) const uint kDirectionalLights = 0u;  // they come first
+layout(constant_id = 1) const uint kLights = 0u;             // all lights
+
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
-    uvec4 size;           // xy output size, z directional lights (first), w all lights
+    uvec4 size;           // xy output size
 } pc;
 
 // Radiance arriving from a point or spot light (glTF KHR_lights_punctual falloffs); l is set
@@ -82,15 +88,14 @@ Shaded shadeSurface(ivec2 pixel, vec3 position, vec3 v) {
     Shaded s;
     s.color = vec3(0.0);
     float sunVisibility = texelFetch(shadowMask, pixel, 0).r;
-    // Counts from push constants: loop bounds the compiler sees as uniform. No early-outs per
-    // pixel: a SIMD CPU driver pays for masked lanes anyway.
+    // No early-outs per pixel: a SIMD CPU driver pays for masked lanes anyway.
     uint i = 0u;
-    for (; i < pc.size.z; ++i) {
+    for (; i < kDirectionalLights; ++i) {
         GpuLight light = scene.lights[i];
         vec3 f = evalBRDFCos(n, v, -light.directionRange.xyz, baseColor, metallic, roughness);
         s.color += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sunVisibility : 1.0);
     }
-    for (; i < pc.size.w; ++i) {
+    for (; i < kLights; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(scene.lights[i], position, l);
         s.color += evalBRDFCos(n, v, l, baseColor, metallic, roughness) * radiance;

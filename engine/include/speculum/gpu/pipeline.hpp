@@ -67,6 +67,8 @@ struct GraphicsPipelineDesc {
     VkCullModeFlags cull = VK_CULL_MODE_BACK_BIT;
     bool vertexInput = true;  // engine Vertex layout (pos, normal, tangent, uv); false: fullscreen
     bool depthBias = false;
+    // Values of the fragment shader's specialization constants (constant_id 0, 1, ...).
+    std::vector<uint32_t> fragmentConstants;
     std::string name;
 };
 Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
