@@ -84,7 +84,10 @@ std::vector<std::string> parseAovs(const std::string& list) {
 // One camera per output frame.
 std::vector<app::CameraPose> cameraPoses(const Options& o, const Scene& scene, uint32_t w, uint32_t h,
                                          std::optional<render::CameraState>& fixed) {
-    if (!o.path.empty()) return app::loadCameraPath(o.path);
+    if (!o.path.empty()) {
+        if (!o.camera.empty() || !o.eye.empty()) throw argumentError("--path replaces --camera and --eye: give one");
+        return app::loadCameraPath(o.path);
+    }
     if (!o.camera.empty()) {
         const Camera* cam = scene.findCamera(o.camera);
         if (!cam) {
