@@ -130,6 +130,10 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
             fpsFrames = 0;
         }
     }
+    if (ctx.validationEnabled() && gpu::Context::validationMessageCount() > 0) {
+        std::cerr << "speculum-game: " << gpu::Context::validationMessageCount() << " Vulkan validation messages\n";
+        return 1;
+    }
     return 0;
 }
 
