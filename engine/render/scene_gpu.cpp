@@ -49,19 +49,19 @@ bool usable(const Image& image) {
            image.rgba8.size() == size_t(image.width) * image.height * 4;
 }
 
-}  // namespace
 
-SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
-    SceneGpu gpuScene;
+// Where each mesh's primitives start in the shared buffers.
+struct Range {
+    uint32_t firstIndex, indexCount;
+    int32_t vertexOffset;
+};
+using MeshRanges = std::vector<std::vector<Range>>;
 
-    // Geometry: primitives packed back to back; draws address them by first index and offset.
+// Geometry: primitives packed back to back; draws address them by first index and offset.
+MeshRanges uploadGeometry(const gpu::Context& ctx, const Scene& scene, SceneGpu& gpuScene) {
     std::vector<Vertex> vertices;
     std::vector<uint32_t> indices;
-    struct Range {
-        uint32_t firstIndex, indexCount;
-        int32_t vertexOffset;
-    };
-    std::vector<std::vector<Range>> ranges(scene.meshes.size());
+    MeshRanges ranges(scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         for (const Primitive& p : scene.meshes[m].primitives) {
             ranges[m].push_back(
@@ -76,7 +76,17 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
         gpuScene.indices = gpu::uploadBuffer(ctx, std::as_bytes(std::span(indices)),
                                              VK_BUFFER_USAGE_INDEX_BUFFER_BIT, "render.indices");
     }
+    return ranges;
+}
 
+// Views of the uploaded images per colour space (null where an image is not used that way),
+// and of the 1x1 defaults.
+struct ImageViews {
+    std::vector<VkImageView> srgb, linear;
+    VkImageView white, whiteLinear, flatNormal, black;
+};
+
+ImageViews uploadImages(const gpu::Context& ctx, const Scene& scene, SceneGpu& gpuScene) {
     // Which colour spaces each image is sampled in decides its GPU copies.
     std::vector<ImageUse> uses(scene.images.size());
     auto mark = [&](const TextureRef& t, bool srgb, bool normal) {
@@ -100,11 +110,9 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
     images.push_back(
         makeSolid(ctx, 128, 128, 255, 255, VK_FORMAT_R8G8B8A8_UNORM, "render.default.normal"));
     images.push_back(makeSolid(ctx, 0, 0, 0, 255, VK_FORMAT_R8G8B8A8_SRGB, "render.default.black"));
-    const VkImageView white = images[0].view(), whiteLinear = images[1].view();
-    const VkImageView flatNormal = images[2].view(), black = images[3].view();
-
-    std::vector<VkImageView> srgbView(scene.images.size(), VK_NULL_HANDLE);
-    std::vector<VkImageView> linearView(scene.images.size(), VK_NULL_HANDLE);
+    ImageViews views{std::vector<VkImageView>(scene.images.size(), VK_NULL_HANDLE),
+                     std::vector<VkImageView>(scene.images.size(), VK_NULL_HANDLE),
+                     images[0].view(), images[1].view(), images[2].view(), images[3].view()};
     for (size_t i = 0; i < scene.images.size(); ++i) {
         const Image& img = scene.images[i];
         if (!usable(img)) {
@@ -114,50 +122,57 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
         if (uses[i].srgb) {
             images.push_back(makeTexture(ctx, img.width, img.height, img.rgba8.data(),
                                          VK_FORMAT_R8G8B8A8_SRGB, "render.image." + img.name));
-            srgbView[i] = images.back().view();
+            views.srgb[i] = images.back().view();
         }
         // A placeholder's default pixels mean nothing as a normal map: such images stay flat.
         if (uses[i].linear && !(img.placeholder && uses[i].normal)) {
             images.push_back(makeTexture(ctx, img.width, img.height, img.rgba8.data(),
                                          VK_FORMAT_R8G8B8A8_UNORM,
                                          "render.image." + img.name + ".linear"));
-            linearView[i] = images.back().view();
+            views.linear[i] = images.back().view();
         }
     }
+    return views;
+}
 
-    auto pick = [](const TextureRef& t, const std::vector<VkImageView>& views,
-                   VkImageView fallback) {
-        if (t.image < 0 || size_t(t.image) >= views.size() || !views[t.image]) return fallback;
-        return views[t.image];
-    };
-    auto resolve = [&](const Material& m) {
-        GpuMaterial g;
-        g.baseColor = m.baseColor;
-        g.emissive = m.emissive * m.emissiveStrength;
-        g.metallic = m.metallic;
-        g.roughness = m.roughness;
-        g.normalScale = m.normalTexture.scale;
-        g.flags =
-            (m.unlit ? kFlagUnlit : 0u) |
-            (m.reflections && m.reflections->mode != ReflectionMode::Off ? kFlagReflective : 0u);
-        g.doubleSided = m.doubleSided;
-        g.baseColorView = pick(m.baseColorTexture, srgbView, white);
-        g.metallicRoughnessView = pick(m.metallicRoughnessTexture, linearView, whiteLinear);
-        bool placeholderNormal = m.normalTexture.image >= 0 &&
-                                 size_t(m.normalTexture.image) < scene.images.size() &&
-                                 scene.images[m.normalTexture.image].placeholder;
-        g.normalView =
-            placeholderNormal ? flatNormal : pick(m.normalTexture, linearView, flatNormal);
-        // glTF: emissive texture multiplies the factor; without one the factor stands alone.
-        g.emissiveView = pick(m.emissiveTexture, srgbView, white);
-        if (m.emissive == glm::vec3(0.0f)) g.emissiveView = black;
-        g.untextured = g.baseColorView == white && g.metallicRoughnessView == whiteLinear &&
-                       g.normalView == flatNormal &&
-                       (g.emissiveView == white || g.emissiveView == black);
-        return g;
-    };
-    for (const Material& m : scene.materials) gpuScene.materials.push_back(resolve(m));
-    gpuScene.materials.push_back(resolve(Material{}));  // glTF's default material
+VkImageView pick(const TextureRef& t, const std::vector<VkImageView>& views, VkImageView fallback) {
+    if (t.image < 0 || size_t(t.image) >= views.size() || !views[t.image]) return fallback;
+    return views[t.image];
+}
+
+GpuMaterial resolveMaterial(const Scene& scene, const Material& m, const ImageViews& v) {
+    GpuMaterial g;
+    g.baseColor = m.baseColor;
+    g.emissive = m.emissive * m.emissiveStrength;
+    g.metallic = m.metallic;
+    g.roughness = m.roughness;
+    g.normalScale = m.normalTexture.scale;
+    g.flags = (m.unlit ? kFlagUnlit : 0u) |
+              (m.reflections && m.reflections->mode != ReflectionMode::Off ? kFlagReflective : 0u);
+    g.doubleSided = m.doubleSided;
+    g.baseColorView = pick(m.baseColorTexture, v.srgb, v.white);
+    g.metallicRoughnessView = pick(m.metallicRoughnessTexture, v.linear, v.whiteLinear);
+    bool placeholderNormal = m.normalTexture.image >= 0 &&
+                             size_t(m.normalTexture.image) < scene.images.size() &&
+                             scene.images[m.normalTexture.image].placeholder;
+    g.normalView = placeholderNormal ? v.flatNormal : pick(m.normalTexture, v.linear, v.flatNormal);
+    // glTF: emissive texture multiplies the factor; without one the factor stands alone.
+    g.emissiveView = pick(m.emissiveTexture, v.srgb, v.white);
+    if (m.emissive == glm::vec3(0.0f)) g.emissiveView = v.black;
+    g.untextured = g.baseColorView == v.white && g.metallicRoughnessView == v.whiteLinear &&
+                   g.normalView == v.flatNormal &&
+                   (g.emissiveView == v.white || g.emissiveView == v.black);
+    return g;
+}
+
+}  // namespace
+
+SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
+    SceneGpu gpuScene;
+    MeshRanges ranges = uploadGeometry(ctx, scene, gpuScene);
+    ImageViews views = uploadImages(ctx, scene, gpuScene);
+    for (const Material& m : scene.materials) gpuScene.materials.push_back(resolveMaterial(scene, m, views));
+    gpuScene.materials.push_back(resolveMaterial(scene, Material{}, views));  // glTF's default material
     const uint32_t defaultMaterial = uint32_t(gpuScene.materials.size() - 1);
 
     for (const Instance& inst : scene.instances) {
