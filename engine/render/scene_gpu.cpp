@@ -49,7 +49,6 @@ bool usable(const Image& image) {
            image.rgba8.size() == size_t(image.width) * image.height * 4;
 }
 
-
 // Where each mesh's primitives start in the shared buffers.
 struct Range {
     uint32_t firstIndex, indexCount;
