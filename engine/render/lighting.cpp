@@ -90,21 +90,13 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
 void Renderer::Impl::createLightingResources() {
     GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
     lightCounts = glm::uvec2(data.counts.y, data.counts.x);
-    gpu::GraphicsPipelineDesc d;
-    d.vertexShader = "engine/fullscreen.vert";
-    d.fragmentShader = "engine/lighting.frag";
+    gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/lighting.frag", kLinearFormat, "render.lighting");
     for (uint32_t b = 0; b < 7; ++b)
         d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.bindings.push_back({7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.pushConstantBytes = sizeof(LightingConstants);
-    d.colorFormats = {kLinearFormat};
-    d.depthTest = false;
-    d.depthWrite = false;
-    d.cull = VK_CULL_MODE_NONE;
-    d.vertexInput = false;
     // The light counts are specialization constants: the shader's light loops unroll.
     d.fragmentConstants = {lightCounts.x, lightCounts.y};
-    d.name = "render.lighting";
     lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
                                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_lighting");

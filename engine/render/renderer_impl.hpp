@@ -59,6 +59,10 @@ struct ShadowSetup {
 
 // Binds the scene's vertex and index buffers (gbuffer.cpp).
 void bindSceneGeometry(VkCommandBuffer cmd, const SceneGpu& scene);
+// A fullscreen-triangle pipeline (fullscreen.vert, no vertex input, no depth, no culling)
+// writing one colour target; callers add bindings, push constants and constants.
+gpu::GraphicsPipelineDesc fullscreenPipelineDesc(const std::string& fragmentShader, VkFormat color,
+                                                 const std::string& name);
 // Begins rendering into one colour attachment that a fullscreen triangle (fullscreen.vert)
 // covers entirely (load DONT_CARE), with the viewport and scissor set to extent.
 void beginFullscreenRendering(VkCommandBuffer cmd, VkExtent2D extent, VkImageView color);

@@ -89,21 +89,14 @@ void Renderer::Impl::createShadowResources() {
     desc.name = "render.shadow";
     shadowPipeline = gpu::createGraphicsPipeline(ctx, desc);
 
-    gpu::GraphicsPipelineDesc mask;
-    mask.vertexShader = "engine/fullscreen.vert";
-    mask.fragmentShader = "engine/shadow_mask.frag";
+    gpu::GraphicsPipelineDesc mask =
+        fullscreenPipelineDesc("engine/shadow_mask.frag", VK_FORMAT_R8_UNORM, "render.shadow_mask");
     mask.bindings = {
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
     };
     mask.pushConstantBytes = sizeof(MaskConstants);
-    mask.colorFormats = {VK_FORMAT_R8_UNORM};
-    mask.depthTest = false;
-    mask.depthWrite = false;
-    mask.cull = VK_CULL_MODE_NONE;
-    mask.vertexInput = false;
-    mask.name = "render.shadow_mask";
     shadowMaskPipeline = gpu::createGraphicsPipeline(ctx, mask);
     shadowCompareSampler = createCompareSampler(ctx);
 

@@ -13,6 +13,20 @@ struct TonemapConstants {
 
 }  // namespace
 
+gpu::GraphicsPipelineDesc fullscreenPipelineDesc(const std::string& fragmentShader, VkFormat color,
+                                                 const std::string& name) {
+    gpu::GraphicsPipelineDesc d;
+    d.vertexShader = "engine/fullscreen.vert";
+    d.fragmentShader = fragmentShader;
+    d.colorFormats = {color};
+    d.depthTest = false;
+    d.depthWrite = false;
+    d.cull = VK_CULL_MODE_NONE;
+    d.vertexInput = false;
+    d.name = name;
+    return d;
+}
+
 void beginFullscreenRendering(VkCommandBuffer cmd, VkExtent2D extent, VkImageView color) {
     VkRenderingAttachmentInfo attachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     attachment.imageView = color;
@@ -32,17 +46,9 @@ void beginFullscreenRendering(VkCommandBuffer cmd, VkExtent2D extent, VkImageVie
 }
 
 void Renderer::Impl::createTonemapPipeline() {
-    gpu::GraphicsPipelineDesc d;
-    d.vertexShader = "engine/fullscreen.vert";
-    d.fragmentShader = "engine/tonemap.frag";
+    gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/tonemap.frag", kColorFormat, "render.tonemap");
     d.bindings = {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}};
     d.pushConstantBytes = sizeof(TonemapConstants);
-    d.colorFormats = {kColorFormat};
-    d.depthTest = false;
-    d.depthWrite = false;
-    d.cull = VK_CULL_MODE_NONE;
-    d.vertexInput = false;
-    d.name = "render.tonemap";
     tonemapPipeline = gpu::createGraphicsPipeline(ctx, d);
 }
 
