@@ -33,7 +33,7 @@ struct GpuSceneLighting {
 struct LightingConstants {
     glm::mat4 invViewProj;
     glm::vec4 cameraPosition;  // w: specular cube max mip
-    glm::uvec4 size;  // z: directional light count, w: light count
+    glm::uvec4 size;  // xy: output size (light counts are specialization constants)
 };
 static_assert(sizeof(LightingConstants) <= 128);
 
@@ -124,7 +124,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
-                        glm::uvec4(extent.width, extent.height, lightCounts)};
+                        glm::uvec4(extent.width, extent.height, 0u, 0u)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
     vkCmdDraw(cmd, 3, 1, 0, 0);
