@@ -3,6 +3,8 @@
 
 #include "speculum/scene.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -28,8 +30,12 @@ struct GltfData {
     std::vector<uint8_t> bin;
 };
 
+// ctest runs tests in parallel processes: each test gets a folder of its own so that two tests
+// using the same sub-folder name never delete each other's files.
 inline std::filesystem::path tmpDir(const std::string& sub) {
-    std::filesystem::path dir = std::filesystem::path(SPECULUM_TEST_TMP) / "scene" / sub;
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string owner = test ? std::string(test->test_suite_name()) + "." + test->name() : "no_test";
+    std::filesystem::path dir = std::filesystem::path(SPECULUM_TEST_TMP) / "scene" / owner / sub;
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;

@@ -30,8 +30,7 @@ void expectBadInput(const std::filesystem::path& path, const std::string& proble
 // Writes the quad with `edit` applied to its document and expects BadInput.
 void expectBadEdit(const std::string& name, const std::function<void(json&)>& edit,
                    const std::string& problem) {
-    auto dir = std::filesystem::path(SPECULUM_TEST_TMP) / "scene" / "bad";
-    std::filesystem::create_directories(dir);
+    auto dir = tmpDir("bad_edits");
     GltfData g = quad();
     edit(g.doc);
     expectBadInput(writeGltf(dir / (name + ".gltf"), g), problem);
