@@ -1,0 +1,223 @@
+// speculum-reference: ground-truth renders of a glTF scene (DESIGN.md sections 6 and 7).
+// Takes speculum-capture's scene and camera flags and writes the same file names
+// (NAME.FFFF.exr, color.FFFF.png) plus reference.json (time and rays per frame).
+// Exit 0 done, 2 bad arguments, 3 bad scene or settings file.
+#include "reference.hpp"
+
+#include "speculum/app/camera_path.hpp"
+#include "speculum/app/engine_settings.hpp"
+#include "speculum/app/output.hpp"
+#include "speculum/core.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace speculum;
+
+namespace {
+
+const std::vector<std::string> kAovs = {"linear", "color", "reflection", "depth", "normal", "reflective"};
+
+struct Options {
+    std::string scene, camera, eye, target, up = "0,1,0", size = "960x540", path, settingsFile, out;
+    std::string aov = "linear,color,reflection,reflective";
+    float fov = 60.0f;
+    uint32_t spp = 64, bounces = 2, threads = 0;
+    uint64_t seed = 1;
+    std::vector<std::string> sets;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string item; std::getline(ss, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+glm::vec3 parseVec3(const std::string& s, const char* flag) {
+    auto parts = splitList(s);
+    if (parts.size() != 3) throw argumentError(std::string(flag) + " needs X,Y,Z, got '" + s + "'");
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        try {
+            size_t used = 0;
+            v[i] = std::stof(parts[size_t(i)], &used);
+            if (used != parts[size_t(i)].size()) throw std::invalid_argument("trailing");
+        } catch (const std::exception&) {
+            throw argumentError(std::string(flag) + " needs three numbers X,Y,Z, got '" + s + "'");
+        }
+    }
+    return v;
+}
+
+std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
+    unsigned w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+        throw argumentError("--size needs WxH (e.g. 960x540), got '" + s + "'");
+    if (w == 0 || h == 0) throw argumentError("--size " + s + " is empty: width and height must be at least 1");
+    if (w > 16384 || h > 16384) throw argumentError("--size " + s + " is larger than 16384 pixels on a side");
+    return {w, h};
+}
+
+std::vector<std::string> parseAovs(const std::string& list) {
+    auto aovs = splitList(list);
+    if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, reflection, depth, normal, reflective");
+    for (const std::string& a : aovs)
+        if (std::find(kAovs.begin(), kAovs.end(), a) == kAovs.end())
+            throw argumentError("unknown AOV '" + a + "' (known: linear, color, reflection, depth, normal, reflective)");
+    return aovs;
+}
+
+// The cameras speculum-capture would use for the same flags (engine/capture/main.cpp).
+std::vector<render::CameraState> cameras(const Options& o, const Scene& scene, uint32_t w, uint32_t h) {
+    if (!o.path.empty()) {
+        if (!o.camera.empty() || !o.eye.empty()) throw argumentError("--path replaces --camera and --eye: give one");
+        std::vector<render::CameraState> out;
+        for (const app::CameraPose& p : app::loadCameraPath(o.path))
+            out.push_back(render::makeCamera(p.eye, p.target, p.up, glm::radians(p.fovDeg), w, h));
+        return out;
+    }
+    if (!o.camera.empty()) {
+        const Camera* cam = scene.findCamera(o.camera);
+        if (!cam) {
+            std::string names;
+            for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
+            throw argumentError("scene " + o.scene + " has no camera named '" + o.camera + "' (cameras: " +
+                                (names.empty() ? "none" : names) + ")");
+        }
+        return {render::makeCamera(*cam, w, h)};
+    }
+    if (!o.eye.empty() || !o.target.empty()) {
+        if (o.eye.empty() || o.target.empty()) throw argumentError("--eye and --target go together");
+        glm::vec3 eye = parseVec3(o.eye, "--eye"), target = parseVec3(o.target, "--target");
+        if (glm::length(target - eye) < 1e-6f) throw argumentError("--eye and --target are the same point");
+        if (!(o.fov > 1.0f && o.fov < 179.0f)) throw argumentError("--fov must be in 1..179 degrees");
+        return {render::makeCamera(eye, target, parseVec3(o.up, "--up"), glm::radians(o.fov), w, h)};
+    }
+    return {render::frameBounds(scene, w, h)};
+}
+
+app::AovImage toAov(const reference::Frame& f, const std::string& name, float exposure) {
+    app::AovImage img{f.width, f.height, 3, std::vector<float>(size_t(f.width) * f.height * 4, 1.0f)};
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {
+        glm::vec3 v(0.0f);
+        if (name == "linear") v = f.linear[i];
+        else if (name == "color") v = reference::tonemap(f.linear[i], exposure);
+        else if (name == "reflection") v = f.reflection[i];
+        else if (name == "normal") v = f.normal[i];
+        else v = glm::vec3(name == "depth" ? f.depth[i] : f.reflective[i]);
+        for (int c = 0; c < 3; ++c) img.rgba[i * 4 + size_t(c)] = v[c];
+    }
+    if (name == "depth" || name == "reflective") img.channels = 1;
+    return img;
+}
+
+// A bar that redraws in place on a terminal; nothing when stderr is a file (logs stay short).
+void progressBar(size_t frame, size_t frames, uint32_t done, uint32_t total,
+                 std::chrono::steady_clock::time_point start) {
+    static const bool tty = isatty(2);
+    if (!tty) return;
+    const int width = 30;
+    int filled = int(double(done) / total * width);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "\rreference frame %zu/%zu [%s%s] %3d%% %.1f s", frame + 1, frames,
+                 std::string(size_t(filled), '#').c_str(), std::string(size_t(width - filled), '-').c_str(),
+                 int(100.0 * done / total), seconds);
+    if (done == total) std::fprintf(stderr, "\n");
+}
+
+int run(const Options& o) {
+    if (o.out.empty()) throw argumentError("--out DIR is required");
+    if (o.scene.empty()) throw argumentError("--scene FILE is required");
+    if (o.spp < 1 || o.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
+    if (o.bounces < 1 || o.bounces > 64) throw argumentError("--bounces must be in 1..64");
+    auto [w, h] = parseSize(o.size);
+    std::vector<std::string> aovs = parseAovs(o.aov);
+
+    Settings settings(app::engineSettingsTable());
+    if (!o.settingsFile.empty()) settings.load(o.settingsFile);
+    for (const std::string& kv : o.sets) settings.assign(kv);
+    render::RendererOptions ro;
+    app::applyRenderSettings(settings, ro);
+
+    auto setupStart = std::chrono::steady_clock::now();
+    Scene scene = loadScene(o.scene);
+    std::vector<render::CameraState> views = cameras(o, scene, w, h);
+    reference::Options ropt{o.spp, o.bounces, o.seed, o.threads, ro.exposure, {}};
+    size_t frameIndex = 0;
+    auto frameStart = std::chrono::steady_clock::now();
+    ropt.progress = [&](uint32_t done, uint32_t total) { progressBar(frameIndex, views.size(), done, total, frameStart); };
+    reference::Renderer renderer(scene, ropt);
+    double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
+    fs::create_directories(o.out);
+
+    nlohmann::json frames = nlohmann::json::array();
+    for (frameIndex = 0; frameIndex < views.size(); ++frameIndex) {
+        frameStart = std::chrono::steady_clock::now();
+        reference::Frame f = renderer.render(views[frameIndex]);
+        for (const std::string& a : aovs) app::writeAov(o.out, a, int(frameIndex), toAov(f, a, renderer.exposure()));
+        double raysPerSecond = f.rays / std::max(f.seconds, 1e-9);
+        frames.push_back({{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
+                          {"rays_per_second", raysPerSecond}});
+        std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
+                    raysPerSecond / 1e6);
+    }
+    nlohmann::json report = {{"scene", o.scene},         {"width", w},
+                             {"height", h},              {"spp", o.spp},
+                             {"bounces", o.bounces},     {"seed", o.seed},
+                             {"threads", o.threads},     {"exposure", renderer.exposure()},
+                             {"setup_seconds", setupSeconds}, {"frames", frames}};
+    app::writeText(fs::path(o.out) / "reference.json", report.dump(2));
+    std::fflush(stdout);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App cli{"speculum-reference: ground-truth Embree renders of a glTF scene, as speculum-capture frames it"};
+    cli.add_option("--scene", o.scene, "glTF scene (.gltf or .glb)");
+    cli.add_option("--camera", o.camera, "camera by glTF name");
+    cli.add_option("--eye", o.eye, "camera position X,Y,Z");
+    cli.add_option("--target", o.target, "point looked at X,Y,Z");
+    cli.add_option("--up", o.up, "up vector X,Y,Z (default 0,1,0)");
+    cli.add_option("--fov", o.fov, "vertical field of view in degrees (with --eye; default 60)");
+    cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
+    cli.add_option("--size", o.size, "image size WxH (default 960x540)");
+    cli.add_option("--spp", o.spp, "glossy reflection samples per pixel (default 64)");
+    cli.add_option("--bounces", o.bounces, "reflective surfaces traced this deep (default 2)");
+    cli.add_option("--seed", o.seed, "random seed (same seed, same image; default 1)");
+    cli.add_option("--threads", o.threads, "render threads (default: all hardware threads)");
+    cli.add_option("--settings", o.settingsFile, "JSON settings file (render.exposure is used)");
+    cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable; render.exposure is used)");
+    cli.add_option("--aov", o.aov,
+                   "comma list: linear,color,reflection,depth,normal,reflective (default linear,color,reflection,reflective)");
+    cli.add_option("--out", o.out, "output directory");
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "speculum-reference: " << e.what() << " (see --help)\n";
+        return static_cast<int>(ExitCode::BadArguments);
+    }
+    try {
+        return run(o);
+    } catch (const Error& e) {
+        std::cerr << "speculum-reference: " << e.what() << "\n";
+        return static_cast<int>(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "speculum-reference: internal error: " << e.what() << "\n";
+        return static_cast<int>(ExitCode::Failure);
+    }
+}

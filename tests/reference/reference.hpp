@@ -1,0 +1,66 @@
+// speculum-reference: the Embree ground-truth renderer (DESIGN.md section 7). It shades every
+// hit point with the engine's model (shaders/engine/lighting.frag, shaders/common/brdf.glsl)
+// and replaces the split-sum specular ambient of reflective materials by traced reflections:
+// exact mirror recursion, GGX visible-normal sampling for glossy lobes. README.md in this folder
+// gives the estimator and the conventions.
+#pragma once
+
+#include "speculum/render/environment.hpp"
+#include "speculum/render/renderer.hpp"
+#include "speculum/scene.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace speculum::reference {
+
+struct Options {
+    uint32_t spp = 64;     // reflection-lobe samples per pixel (mirrors need 1)
+    uint32_t bounces = 2;  // reflective surfaces traced this deep; deeper ones use the split sum
+    uint64_t seed = 1;
+    uint32_t threads = 0;  // 0: every hardware thread
+    float exposure = 1.0f;  // render.exposure; multiplies the scene's extras.exposure
+    // Called with (rows done, rows) from the render threads' coordinator; may be empty.
+    std::function<void(uint32_t, uint32_t)> progress;
+};
+
+// One rendered view; images are row-major, top row first, like the engine's AOVs.
+struct Frame {
+    uint32_t width = 0, height = 0;
+    std::vector<glm::vec3> linear;      // HDR colour before tonemapping
+    std::vector<glm::vec3> reflection;  // pre-Fresnel reflection radiance; 0 off reflective pixels
+    std::vector<float> depth;           // reversed-Z depth-buffer value (1 near plane, 0 sky)
+    std::vector<glm::vec3> normal;      // world shading normal; 0 for sky
+    std::vector<float> reflective;      // 1 where the visible surface is reflective
+    double seconds = 0.0;
+    uint64_t rays = 0;  // every Embree query: primary, reflection and shadow rays
+};
+
+class Renderer {
+public:
+    // Builds the Embree scene, loads the sky named by the scene's extras (or the engine's grey
+    // default) and precomputes the split-sum tables. Throws speculum::Error like the engine.
+    Renderer(const Scene& scene, const Options& options);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    Frame render(const render::CameraState& camera) const;
+    // render.exposure times the scene's extras.exposure: what the engine's tonemap multiplies by.
+    float exposure() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// The engine's tonemap (shaders/engine/tonemap.frag) with the exact sRGB curve: display values
+// in [0, 1].
+glm::vec3 tonemap(glm::vec3 linear, float exposure);
+
+}  // namespace speculum::reference
