@@ -13,6 +13,7 @@ PACKAGES=(
   libimgui-dev libopenimageio-dev openimageio-tools libcli11-dev
   libgtest-dev libgmock-dev
   xvfb xauth python3
+  libembree-dev python3-matplotlib
 )
 
 missing=()
