@@ -7,6 +7,7 @@
 #include <embree3/rtcore.h>
 
 #include <array>
+#include <mutex>
 #include <cstdint>
 #include <vector>
 
@@ -69,13 +70,17 @@ public:
 private:
     render::EquirectImage image_;
     std::vector<render::EquirectImage> mips_;    // box pyramid of image_ (filtered sampling)
-    std::vector<render::EquirectImage> levels_;  // levels_[k]: roughness (k + 1) / kLevels
+    // levels_[k]: roughness (k + 1) / kLevels. Built on first use: a scene whose every surface
+    // is reflective (most tests) never needs them.
+    mutable std::vector<render::EquirectImage> levels_;
+    mutable std::once_flag levelsBuilt_;
+    unsigned threads_ = 1;
     render::SH9 sh_{};
     std::vector<glm::vec2> dfg_;
     float exposure_ = 1.0f;
 
     glm::vec3 sampleLod(glm::vec3 dir, float lod) const;
-    void buildLevels(unsigned threads);
+    void buildLevels() const;
 };
 
 // ---- Embree --------------------------------------------------------------------------------

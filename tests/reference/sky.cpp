@@ -213,7 +213,7 @@ Sky::Sky(const Scene& scene, unsigned threads) {
     mips_.push_back(image_);
     while (mips_.back().width > 1 || mips_.back().height > 1) mips_.push_back(downsample(mips_.back()));
     dfg_ = buildDfg(threads);
-    buildLevels(threads);
+    threads_ = threads;
 }
 
 glm::vec3 Sky::radiance(glm::vec3 dir) const {
@@ -255,7 +255,7 @@ glm::vec3 Sky::sampleLod(glm::vec3 dir, float lod) const {
 // NdotL weights, filtered importance sampling from a box pyramid), at a resolution that keeps
 // a texel well below the lobe's width (capped at 256 x 128, near the engine cube's texel size: the narrowest lobes are then
 // sharper than their texels, which only the nearly-mirror levels notice).
-void Sky::buildLevels(unsigned threads) {
+void Sky::buildLevels() const {
     const bool constant = image_.width == 1 && image_.height == 1;
     const float texelSolidAngle = 4.0f * kPi / float(size_t(image_.width) * image_.height);
     levels_.resize(kLevels);
@@ -285,7 +285,7 @@ void Sky::buildLevels(unsigned threads) {
             float sampleSolidAngle = 1.0f / (float(count) * pdf + 1e-6f);
             samples.push_back({l, 0.5f * std::log2(sampleSolidAngle / texelSolidAngle) + 1.0f});
         }
-        parallelRows(level.height, threads, [&](uint32_t y) {
+        parallelRows(level.height, threads_, [&](uint32_t y) {
             for (uint32_t x = 0; x < level.width; ++x) {
                 glm::vec3 n = render::equirectDirection({(float(x) + 0.5f) / float(level.width),
                                                          (float(y) + 0.5f) / float(level.height)});
@@ -303,6 +303,7 @@ void Sky::buildLevels(unsigned threads) {
 }
 
 glm::vec3 Sky::prefiltered(glm::vec3 dir, float roughness) const {
+    std::call_once(levelsBuilt_, [this] { buildLevels(); });
     float r = std::clamp(roughness, 0.0f, 1.0f) * float(kLevels);
     int k = int(std::floor(r));
     float f = r - float(k);
