@@ -1,0 +1,116 @@
+// speculum-metrics: the accuracy metrics as a command printing JSON, for the bench and the
+// accuracy tests (one implementation: metrics.cpp).
+//   speculum-metrics compare --test T.exr --ref R.exr [--ref-mask REFLECTIVE.exr]
+//                            [--test-mask REFLECTION.exr] [--scale S] [--heatmap OUT.png]
+//   speculum-metrics flicker --test DIR --ref DIR --aov NAME --frames N [--ref-mask-aov NAME]
+//                            [--test-mask-aov NAME] [--scale S]
+// Exit 0 done, 2 bad arguments, 3 an image cannot be read or sizes differ.
+#include "metrics.hpp"
+
+#include "speculum/core.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace speculum;
+
+namespace {
+
+struct Options {
+    std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov;
+    float scale = 1.0f;
+    int frames = 0;
+};
+
+std::vector<uint8_t> maskFor(const metrics::Image& size, const std::string& refMask, const std::string& testMask) {
+    std::optional<metrics::Image> r, t;
+    if (!refMask.empty()) r = metrics::load(refMask);
+    if (!testMask.empty()) t = metrics::load(testMask);
+    return metrics::reflectiveMask(size.width, size.height, r ? &*r : nullptr, t ? &*t : nullptr);
+}
+
+nlohmann::json toJson(const metrics::Scores& s) {
+    return {{"pixels", s.pixels},
+            {"psnr_db", s.psnr ? nlohmann::json(*s.psnr) : nlohmann::json(nullptr)},
+            {"mae", s.mae},
+            {"gross_share", s.grossShare}};
+}
+
+int compare(const Options& o) {
+    metrics::Image test = metrics::load(o.test), ref = metrics::load(o.ref);
+    std::vector<uint8_t> mask = maskFor(ref, o.refMask, o.testMask);
+    metrics::Scores s = metrics::compare(test, ref, mask, o.scale);
+    if (!o.heatmap.empty())
+        metrics::writePng(o.heatmap, ref.width, ref.height, metrics::heatmap(test, ref, mask, o.scale));
+    std::cout << toJson(s).dump() << "\n";
+    return 0;
+}
+
+std::string frameFile(const std::string& dir, const std::string& aov, int frame) {
+    std::ostringstream s;
+    s << aov << "." << std::setw(4) << std::setfill('0') << frame << ".exr";
+    return (fs::path(dir) / s.str()).string();
+}
+
+int flicker(const Options& o) {
+    if (o.aov.empty()) throw argumentError("flicker needs --aov NAME");
+    if (o.frames < 2) throw argumentError("flicker needs --frames N with N >= 2");
+    std::vector<metrics::Image> test, ref;
+    std::vector<std::vector<uint8_t>> masks;
+    for (int f = 0; f < o.frames; ++f) {
+        test.push_back(metrics::load(frameFile(o.test, o.aov, f)));
+        ref.push_back(metrics::load(frameFile(o.ref, o.aov, f)));
+        masks.push_back(maskFor(ref.back(), o.refMaskAov.empty() ? "" : frameFile(o.ref, o.refMaskAov, f),
+                                o.testMaskAov.empty() ? "" : frameFile(o.test, o.testMaskAov, f)));
+    }
+    double e = metrics::excessFlicker(test, ref, masks, o.scale);
+    std::cout << nlohmann::json{{"frames", o.frames}, {"excess_flicker", e}}.dump() << "\n";
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App cli{"speculum-metrics: PSNR, MAE, gross-error share and excess flicker on reflective pixels (JSON)"};
+    cli.require_subcommand(1);
+    CLI::App* cmp = cli.add_subcommand("compare", "one image against its reference");
+    cmp->add_option("--test", o.test, "engine image (EXR)")->required();
+    cmp->add_option("--ref", o.ref, "reference image (EXR)")->required();
+    cmp->add_option("--ref-mask", o.refMask, "reference 'reflective' AOV: pixels > 0.5 count");
+    cmp->add_option("--test-mask", o.testMask, "engine 'reflection' AOV: non-zero pixels count");
+    cmp->add_option("--scale", o.scale, "multiplier before clamping to [0, 1] (the scene's exposure)");
+    cmp->add_option("--heatmap", o.heatmap, "write an error heatmap PNG");
+    CLI::App* fl = cli.add_subcommand("flicker", "excess flicker of a frame sequence against its reference");
+    fl->add_option("--test", o.test, "engine output folder")->required();
+    fl->add_option("--ref", o.ref, "reference output folder")->required();
+    fl->add_option("--aov", o.aov, "AOV compared (NAME.FFFF.exr in both)")->required();
+    fl->add_option("--frames", o.frames, "frame count")->required();
+    fl->add_option("--ref-mask-aov", o.refMaskAov, "reference mask AOV (e.g. reflective)");
+    fl->add_option("--test-mask-aov", o.testMaskAov, "engine mask AOV (e.g. reflection)");
+    fl->add_option("--scale", o.scale, "multiplier before clamping to [0, 1] (the scene's exposure)");
+    try {
+        cli.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return cli.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "speculum-metrics: " << e.what() << " (see --help)\n";
+        return static_cast<int>(ExitCode::BadArguments);
+    }
+    try {
+        if (!(o.scale > 0.0f)) throw argumentError("--scale must be positive");
+        return cmp->parsed() ? compare(o) : flicker(o);
+    } catch (const Error& e) {
+        std::cerr << "speculum-metrics: " << e.what() << "\n";
+        return static_cast<int>(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "speculum-metrics: internal error: " << e.what() << "\n";
+        return static_cast<int>(ExitCode::Failure);
+    }
+}

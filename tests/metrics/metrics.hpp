@@ -1,0 +1,55 @@
+// Accuracy metrics of DESIGN.md section 7, written once for the accuracy tests and the bench:
+// PSNR, mean absolute error and gross-error share on reflective pixels, and excess flicker
+// over a camera path. Values are compared as "clamped linear": each image is multiplied by
+// `scale` (the scene's exposure, so that 1 is what the display shows as white) and clamped to
+// [0, 1] per channel. The definitions are in tests/reference/README.md.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+namespace speculum::metrics {
+
+struct Image {
+    uint32_t width = 0, height = 0;
+    std::vector<glm::vec3> pixels;  // row-major; one-channel files are replicated
+};
+
+// Reads an EXR (or anything OpenImageIO reads). Throws Error(ExitCode::BadInput) naming the file.
+Image load(const std::filesystem::path& file);
+
+// A pixel counts when any mask source says it is reflective: the reference's `reflective` AOV
+// (> 0.5) or a non-zero pixel of the engine's `reflection` AOV (which is 0 off reflective
+// pixels). Either may be absent. No source at all: every pixel counts.
+std::vector<uint8_t> reflectiveMask(uint32_t width, uint32_t height, const Image* referenceMask,
+                                    const Image* engineReflection);
+
+struct Scores {
+    size_t pixels = 0;          // pixels in the mask
+    std::optional<double> psnr;  // dB, peak 1; absent without pixels; capped at 100 when equal
+    double mae = 0.0;            // mean over pixels and channels
+    double grossShare = 0.0;     // share of pixels whose largest channel error exceeds kGross
+};
+inline constexpr double kGross = 0.25;
+inline constexpr double kMaxPsnr = 100.0;
+
+// Throws Error(ExitCode::BadInput) when the sizes differ.
+Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale);
+
+// Excess flicker: the mean over frames t >= 1 of the mean over the pixels of mask[t] and the
+// channels of |(R_t - R_t-1) - (Ref_t - Ref_t-1)|, on clamped values. A sequence whose changes
+// follow the reference's scores 0 whatever its constant error.
+double excessFlicker(const std::vector<Image>& test, const std::vector<Image>& reference,
+                     const std::vector<std::vector<uint8_t>>& masks, float scale);
+
+// Error heatmap, 8-bit RGB: the largest channel error on mask pixels from black through blue
+// and magenta to yellow at kGross and above; other pixels show the reference in dim grey.
+std::vector<uint8_t> heatmap(const Image& test, const Image& reference, const std::vector<uint8_t>& mask,
+                             float scale);
+void writePng(const std::filesystem::path& file, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb);
+
+}  // namespace speculum::metrics
