@@ -2,6 +2,7 @@
 // the cursor is captured with Tab) looks around, Q/E go down/up, Shift is fast, Esc quits.
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
+#include "speculum/reflections/hook.hpp"
 #include "speculum/app/window.hpp"
 #include "speculum/core.hpp"
 #include "speculum/render/renderer.hpp"
@@ -81,6 +82,9 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
     gpu::Context ctx(gpu::ContextOptions{
         .deviceName = device, .instanceExtensions = app::Window::requiredExtensions(), .swapchain = true});
     render::Renderer renderer(ctx, scene);
+    // The sample plays with the module's defaults; the editor is where settings change.
+    Settings settings(reflections::settingsTable());
+    reflections::Reflections module(ctx, renderer);
     app::Swapchain swapchain(ctx, window);
     app::FrameRunner runner(ctx, renderer, swapchain.extent().width, swapchain.extent().height);
 
@@ -115,7 +119,8 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
         if (first) frame.previousCamera = frame.camera;
         first = false;
         app::FrameResult result = runner.render(
-            frame, {}, {}, [&](FrameGraph& g, TextureHandle color) { swapchain.addPresentPass(g, color); },
+            frame, {}, reflections::litHook(module, settings, frame),
+            [&](FrameGraph& g, TextureHandle color) { swapchain.addPresentPass(g, color); },
             swapchain.acquired(), swapchain.rendered());
         swapchain.present();
         ++frames;

@@ -8,6 +8,7 @@
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/resources.hpp"
+#include "speculum/reflections/hook.hpp"
 #include "speculum/render/renderer.hpp"
 #include "speculum/scene.hpp"
 
@@ -69,14 +70,16 @@ std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
 
 std::vector<std::string> parseAovs(const std::string& list) {
     auto aovs = splitList(list);
-    if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, depth, normal, roughness, motion");
+    std::string known;
+    for (const auto* l : {&app::availableAovs(), &app::moduleAovs()})
+        for (const std::string& a : *l) known += (known.empty() ? "" : ", ") + a;
+    if (aovs.empty()) throw argumentError("--aov needs at least one of: " + known);
     for (const std::string& a : aovs) {
-        const auto& now = app::availableAovs();
-        const auto& later = app::futureAovs();
-        if (std::find(later.begin(), later.end(), a) != later.end())
-            throw argumentError("AOV '" + a + "' comes with the reflections module, which this build does not have yet");
-        if (std::find(now.begin(), now.end(), a) == now.end())
-            throw argumentError("unknown AOV '" + a + "' (known: linear, color, depth, normal, roughness, motion)");
+        const auto& engine = app::availableAovs();
+        const auto& module = app::moduleAovs();
+        if (std::find(engine.begin(), engine.end(), a) == engine.end() &&
+            std::find(module.begin(), module.end(), a) == module.end())
+            throw argumentError("unknown AOV '" + a + "' (known: " + known + ")");
     }
     return aovs;
 }
@@ -123,7 +126,9 @@ int run(const Options& o) {
     auto [w, h] = parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
-    Settings settings(app::engineSettingsTable());
+    std::vector<SettingDesc> table = app::engineSettingsTable();
+    for (SettingDesc& d : reflections::settingsTable()) table.push_back(std::move(d));
+    Settings settings(std::move(table));
     if (!o.settingsFile.empty()) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
 
@@ -140,13 +145,14 @@ int run(const Options& o) {
     render::RendererOptions ro;
     app::applyRenderSettings(settings, ro);
     render::Renderer renderer(ctx, scene, ro);
+    reflections::Reflections module(ctx, renderer);
     app::FrameRunner runner(ctx, renderer, w, h);
     fs::create_directories(o.out);
 
     // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.
     render::FrameInputs frame;
     frame.camera = frame.previousCamera = stateFor(poses.front(), fixed, w, h);
-    for (int i = 0; i < o.warmup; ++i) runner.render(frame, {});
+    for (int i = 0; i < o.warmup; ++i) runner.render(frame, {}, reflections::litHook(module, settings, frame));
 
     app::TimingLog timings;
     bool writeEvery = !o.path.empty();
@@ -155,7 +161,8 @@ int run(const Options& o) {
         frame.camera = stateFor(poses[i], fixed, w, h);
         if (i == 0) frame.previousCamera = frame.camera;
         bool write = writeEvery || i + 1 == poses.size();
-        app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{});
+        app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{},
+                                                reflections::litHook(module, settings, frame));
         timings.add(result);
         if (write)
             for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);
@@ -192,7 +199,7 @@ int main(int argc, char** argv) {
     cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
     cli.add_option("--settings", o.settingsFile, "JSON settings file");
     cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable)");
-    cli.add_option("--aov", o.aov, "comma list: linear,color,depth,normal,roughness,motion (default color)");
+    cli.add_option("--aov", o.aov, "comma list: linear,color,depth,normal,roughness,motion,reflection,method,iterations,hiz (default color)");
     cli.add_option("--out", o.out, "output directory");
     cli.add_option("--device", o.device, "Vulkan device name (substring)");
     try {

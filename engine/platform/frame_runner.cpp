@@ -14,21 +14,10 @@ const std::vector<std::string>& availableAovs() {
     return k;
 }
 
-const std::vector<std::string>& futureAovs() {
-    static const std::vector<std::string> k{"reflection", "method", "iterations"};
+const std::vector<std::string>& moduleAovs() {
+    static const std::vector<std::string> k{"reflection", "method", "iterations", "hiz"};
     return k;
 }
-
-namespace {
-
-// A readback target: which graph texture an AOV comes from and how its channels map.
-struct AovSource {
-    TextureHandle texture;
-    uint32_t channels = 4;
-    int sourceChannel = -1;  // >= 0: the AOV is this single channel of the texture
-};
-
-}  // namespace
 
 struct FrameRunner::Impl {
     const gpu::Context& ctx;
@@ -154,18 +143,30 @@ FrameResult FrameRunner::render(const render::FrameInputs& frame, const std::vec
                                 const LitHook& litHook, const PresentHook& presentHook, VkSemaphore wait,
                                 VkSemaphore signal) {
     Impl& m = *impl_;
-    for (const std::string& a : aovs)
-        if (std::find(availableAovs().begin(), availableAovs().end(), a) == availableAovs().end())
-            throw argumentError("unknown AOV '" + a + "'");
+    auto known = [](const std::vector<std::string>& list, const std::string& a) {
+        return std::find(list.begin(), list.end(), a) != list.end();
+    };
+    ModuleAovs moduleRequest;
+    for (const std::string& a : aovs) {
+        if (known(moduleAovs(), a)) moduleRequest.requested.push_back(a);
+        else if (!known(availableAovs(), a)) throw argumentError("unknown AOV '" + a + "'");
+    }
     auto fg = std::make_unique<FrameGraph>(FrameGraphConfig{m.width, m.height});
     render::GBuffer g = m.renderer.addGBufferPasses(*fg, frame);
     TextureHandle lit = m.renderer.addLightingPass(*fg, frame, g);
-    if (litHook) lit = litHook(*fg, g, lit);
+    if (litHook) lit = litHook(*fg, g, lit, moduleRequest);
     TextureHandle color = m.renderer.addTonemapPass(*fg, lit);
     // The frame's image is its output even when nobody reads it back (warm-up, timing runs).
     fg->markOutput(color);
     if (presentHook) presentHook(*fg, color);
     auto sources = m.aovSources(g, lit, color);
+    for (const std::string& a : moduleRequest.requested) {
+        auto it = moduleRequest.provided.find(a);
+        if (it == moduleRequest.provided.end())
+            throw argumentError("AOV '" + a + "' comes from the reflections module, which is off for this frame "
+                                "(reflections.enabled=false)");
+        sources[a] = it->second;
+    }
     if (!aovs.empty()) m.addReadback(*fg, sources, aovs);
     fg->compile(m.allocator);
 

@@ -124,7 +124,8 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
-                        glm::uvec4(extent.width, extent.height, 0u, 0u)};
+                        glm::uvec4(extent.width, extent.height,
+                                   options.reflectionsComposite ? 1u : 0u, 0u)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
     vkCmdDraw(cmd, 3, 1, 0, 0);

@@ -172,6 +172,12 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
     ImageViews views = uploadImages(ctx, scene, gpuScene);
     for (const Material& m : scene.materials) gpuScene.materials.push_back(resolveMaterial(scene, m, views));
     gpuScene.materials.push_back(resolveMaterial(scene, Material{}, views));  // glTF's default material
+    if (gpuScene.materials.size() > kMaxIndexedMaterials)
+        logWarning("render: the scene has " + std::to_string(scene.materials.size()) +
+                   " materials; per-material reflection settings apply to the first " +
+                   std::to_string(kMaxIndexedMaterials - 1));
+    for (size_t i = 0; i < gpuScene.materials.size(); ++i)
+        gpuScene.materials[i].flags |= uint32_t(std::min<size_t>(i, kMaxIndexedMaterials)) << kMaterialIndexShift;
     const uint32_t defaultMaterial = uint32_t(gpuScene.materials.size() - 1);
 
     for (const Instance& inst : scene.instances) {

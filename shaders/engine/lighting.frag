@@ -29,7 +29,7 @@ layout(constant_id = 1) const uint kLights = 0u;             // all lights
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
-    uvec4 size;           // xy output size
+    uvec4 size;           // xy output size, z 1: a module composites reflective pixels' specular ambient
 } pc;
 
 // Radiance arriving from a point or spot light (glTF KHR_lights_punctual falloffs); l is set
@@ -121,7 +121,10 @@ void main() {
     Shaded s = shadeSurface(pixel, position, v);
     vec3 env = textureLod(envSpecular, sky ? -v : s.envDir, sky ? 0.0 : s.envLod).rgb;
     vec4 emissive = texelFetch(emissiveTex, pixel, 0);
-    bool unlit = (uint(emissive.a) & 1u) != 0u;  // the base colour, untouched
-    vec3 color = sky ? env : unlit ? emissive.rgb : emissive.rgb + s.color + env * s.envWeight;
+    uint flags = uint(emissive.a);
+    bool unlit = (flags & 1u) != 0u;  // the base colour, untouched
+    // The reflections module replaces exactly this term for reflective pixels (kFlagReflective).
+    float envScale = (pc.size.z != 0u && (flags & 2u) != 0u) ? 0.0 : 1.0;
+    vec3 color = sky ? env : unlit ? emissive.rgb : emissive.rgb + s.color + env * s.envWeight * envScale;
     outLinear = vec4(color, 1.0);
 }

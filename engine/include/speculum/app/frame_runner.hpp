@@ -16,10 +16,10 @@
 
 namespace speculum::app {
 
-// AOVs the engine can write today; the reflections module adds "reflection", "method" and
-// "iterations" when it lands.
+// AOVs the engine writes itself, and those a module provides through the LitHook (the
+// reflections module: reflection, method, iterations, hiz).
 const std::vector<std::string>& availableAovs();
-const std::vector<std::string>& futureAovs();
+const std::vector<std::string>& moduleAovs();
 
 struct AovImage {
     uint32_t width = 0;
@@ -40,9 +40,24 @@ struct FrameResult {
     MemoryStats memory;            // transient peak with and without aliasing
 };
 
+// A readback source: which graph texture an AOV comes from and how its channels map.
+struct AovSource {
+    TextureHandle texture;
+    uint32_t channels = 4;   // channels that carry data
+    int sourceChannel = -1;  // >= 0: the AOV is this single channel of the texture
+};
+
+// What a LitHook sees of the frame's AOV request, and where it registers the AOVs it provides
+// (so that a module adds debug passes only when someone reads them).
+struct ModuleAovs {
+    std::vector<std::string> requested;
+    std::map<std::string, AovSource> provided;
+};
+
 // Hook that lets the caller add passes between lighting and tonemapping (modules) or after
 // tonemapping (presentation). Returns the (possibly new) lit handle.
-using LitHook = std::function<TextureHandle(FrameGraph&, const render::GBuffer&, TextureHandle lit)>;
+using LitHook =
+    std::function<TextureHandle(FrameGraph&, const render::GBuffer&, TextureHandle lit, ModuleAovs&)>;
 using PresentHook = std::function<void(FrameGraph&, TextureHandle color)>;
 
 class FrameRunner {

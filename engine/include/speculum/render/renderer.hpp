@@ -25,9 +25,13 @@ inline constexpr VkFormat kMotionFormat = VK_FORMAT_R16G16_SFLOAT;          // u
 inline constexpr VkFormat kLinearFormat = VK_FORMAT_R16G16B16A16_SFLOAT;    // HDR linear colour
 inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;          // tonemapped, sRGB-encoded
 
-// Material flag bits stored in emissive.a.
+// Material flag bits stored in emissive.a, with the material's index above them
+// (emissive.a = flags | index << kMaterialIndexShift): modules look per-material settings up by
+// that index. A 16-bit float holds integers up to 2048 exactly, so up to 511 materials.
 inline constexpr uint32_t kFlagUnlit = 1;
 inline constexpr uint32_t kFlagReflective = 2;  // has SPECULUM_reflections mode != off
+inline constexpr uint32_t kMaterialIndexShift = 2;
+inline constexpr uint32_t kMaxIndexedMaterials = 511;
 
 // Everything a pass needs to know about the view. Projection is reversed-Z with an infinite far
 // plane; pixel (x, y) has its centre at ((x + 0.5) / w, (y + 0.5) / h) in UV, y down.
@@ -54,6 +58,9 @@ struct RendererOptions {
     uint32_t shadowMapSize = 2048;
     float exposure = 1.0f;  // multiplies the scene's extras.exposure
     EnvironmentOptions environment;
+    // A reflections module composites the specular ambient of reflective pixels itself:
+    // render.lighting then leaves it out there (pixels with kFlagReflective).
+    bool reflectionsComposite = false;
 };
 
 struct FrameInputs {

@@ -1,0 +1,24 @@
+#include "speculum/reflections/hook.hpp"
+
+#include <algorithm>
+
+namespace speculum::reflections {
+
+app::LitHook litHook(Reflections& module, const Settings& settings, const render::FrameInputs& frame) {
+    return [&module, &settings, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
+                                        app::ModuleAovs& aovs) {
+        ReflectionSettings s = ReflectionSettings::from(settings);
+        module.setActive(s.enabled);
+        if (!s.enabled) return lit;
+        const auto& asked = aovs.requested;
+        bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
+        ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame}, s, hizView);
+        aovs.provided["reflection"] = {out.reflection, 3};
+        aovs.provided["method"] = {out.method, 3};
+        aovs.provided["iterations"] = {out.hit, 1, 3};
+        if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
+        return out.lit;
+    };
+}
+
+}  // namespace speculum::reflections

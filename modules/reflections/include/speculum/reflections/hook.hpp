@@ -1,0 +1,15 @@
+// Plugs the module into app::FrameRunner between render.lighting and render.tonemap, and
+// provides its AOVs (reflection, method, iterations, hiz). Used by speculum-capture, the game,
+// the editor, the tests and the bench, so that they all run the module the same way.
+#pragma once
+
+#include "speculum/app/frame_runner.hpp"
+#include "speculum/reflections/reflections.hpp"
+
+namespace speculum::reflections {
+
+// Settings are read each frame (the editor changes them live). With reflections.enabled off
+// the renderer keeps its own specular ambient and the module forgets its history.
+app::LitHook litHook(Reflections& module, const Settings& settings, const render::FrameInputs& frame);
+
+}  // namespace speculum::reflections

@@ -1,0 +1,69 @@
+// Private state of the reflections module: pipelines, samplers, the per-frame uniforms, the
+// material table and the history images that live across frames.
+#pragma once
+
+#include "speculum/reflections/reflections.hpp"
+
+#include <glm/glm.hpp>
+
+namespace speculum::reflections {
+
+// std140 twin of ReflectionFrame in shaders/reflections/common.glsl.
+struct FrameUniforms {
+    glm::mat4 viewProj;
+    glm::mat4 invViewProj;
+    glm::mat4 prevViewProj;
+    glm::mat4 view;
+    glm::vec4 camera;
+    glm::vec4 size;
+    glm::vec4 trace;
+    glm::vec4 trace2;
+    glm::vec4 cone;
+    glm::vec4 fade;
+    glm::vec4 fade2;
+    glm::uvec4 modes;
+    glm::uvec4 modes2;
+};
+
+struct History {
+    gpu::Image color;  // the previous frame's final lit image
+    gpu::Image depth;  // and its depth
+    uint32_t width = 0, height = 0;
+    bool valid = false;    // holds a frame this module wrote
+    bool written = false;  // ever written: in SHADER_READ_ONLY_OPTIMAL (else UNDEFINED)
+};
+
+struct Reflections::Impl {
+    const gpu::Context& ctx;
+    render::Renderer& renderer;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, trace, resolve, composite, hizView;
+    gpu::Unique<VkSampler> nearest;
+    gpu::Unique<VkSampler> trilinear;
+    gpu::Buffer uniforms;
+    gpu::Buffer materials;
+    uint32_t materialCount = 0;
+    History history;
+    // This frame's imports of the history images (addColorPyramid reads, addHistory writes).
+    TextureHandle historyColorHandle, historyDepthHandle;
+
+    Impl(const gpu::Context& c, render::Renderer& r);
+    void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,
+                       uint32_t levels);
+    void ensureHistory(uint32_t w, uint32_t h);
+
+    // Passes, in frame order (passes.cpp).
+    TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels);
+    TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
+    TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, uint32_t levels);
+    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
+    void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
+    TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
+    void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
+    TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
+
+    gpu::DescriptorWriter writer() const;  // binding 0: the frame uniforms
+    void dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::DescriptorWriter& w, VkExtent2D extent,
+                  const void* push = nullptr, uint32_t pushBytes = 0) const;
+};
+
+}  // namespace speculum::reflections

@@ -1,0 +1,290 @@
+// The module's frame-graph passes, in frame order. Pyramids are one pass per level (read level
+// N - 1, write level N), so the graph derives every barrier between levels.
+#include "module_impl.hpp"
+
+#include "speculum/reflections/math.hpp"
+
+#include <string>
+
+namespace speculum::reflections {
+namespace {
+
+constexpr VkFormat kHiZFormat = VK_FORMAT_R32G32_SFLOAT;
+constexpr VkFormat kVisibilityFormat = VK_FORMAT_R8_UNORM;
+constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kHitFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+std::string levelName(const char* pass, uint32_t level) {
+    return std::string("reflections.") + pass + "." + std::to_string(level);
+}
+
+}  // namespace
+
+TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels) {
+    struct Data {
+        TextureHandle src, dst;
+        uint32_t level;
+    };
+    TextureHandle pyramid;
+    for (uint32_t level = 0; level < levels; ++level) {
+        const auto& d = g.addPass<Data>(
+            levelName("hiz", level), PassType::Compute,
+            [&](PassBuilder& b, Data& data) {
+                data.level = level;
+                if (level == 0) {
+                    data.src = b.read(depth, TextureUsage::Sampled);
+                    pyramid = b.create("reflections.hiz", TextureDesc{.format = kHiZFormat, .mips = levels});
+                } else {
+                    data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
+                }
+                data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
+            },
+            [this](const Data& data, PassContext& pc) {
+                Subresource src = data.level == 0 ? Subresource{} : mipLevel(data.level - 1);
+                gpu::DescriptorWriter w = writer();
+                w.sampled(1, pc.view(data.src, src), nearest).storage(2, pc.view(data.dst, mipLevel(data.level)));
+                dispatch(pc, hiz, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
+            });
+        pyramid = d.dst;
+    }
+    return pyramid;
+}
+
+TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizPyramid, uint32_t levels) {
+    struct Data {
+        TextureHandle hiz, src, dst;
+        uint32_t level;
+    };
+    TextureHandle pyramid;
+    for (uint32_t level = 0; level < levels; ++level) {
+        const auto& d = g.addPass<Data>(
+            levelName("visibility", level), PassType::Compute,
+            [&](PassBuilder& b, Data& data) {
+                data.level = level;
+                data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+                if (level == 0)
+                    pyramid = b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
+                else
+                    data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
+                data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
+            },
+            [this](const Data& data, PassContext& pc) {
+                gpu::DescriptorWriter w = writer();
+                // Level 0 reads no finer level: bind the Hi-Z in its place (unused).
+                VkImageView fine = data.level == 0 ? pc.view(data.hiz) : pc.view(data.src, mipLevel(data.level - 1));
+                w.sampled(1, pc.view(data.hiz), nearest)
+                    .sampled(2, fine, nearest)
+                    .storage(3, pc.view(data.dst, mipLevel(data.level)));
+                dispatch(pc, visibility, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
+            });
+        pyramid = d.dst;
+    }
+    return pyramid;
+}
+
+TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, uint32_t levels) {
+    struct ReprojectData {
+        TextureHandle depth, motion, lit, historyColor, historyDepth, dst;
+    };
+    VkImageLayout historyLayout =
+        history.written ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
+    historyColorHandle = g.importTexture(
+        "reflections.history.color", TextureDesc{.format = render::kLinearFormat},
+        {history.color.get(), historyLayout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, history.color.desc().usage});
+    historyDepthHandle = g.importTexture(
+        "reflections.history.depth", TextureDesc{.format = render::kDepthFormat},
+        {history.depth.get(), historyLayout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, history.depth.desc().usage});
+    const auto& r = g.addPass<ReprojectData>(
+        "reflections.reproject", PassType::Compute,
+        [&](PassBuilder& b, ReprojectData& d) {
+            d.depth = b.read(in.gbuffer.depth, TextureUsage::Sampled);
+            d.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+            d.lit = b.read(in.lit, TextureUsage::Sampled);
+            d.historyColor = b.read(historyColorHandle, TextureUsage::Sampled);
+            d.historyDepth = b.read(historyDepthHandle, TextureUsage::Sampled);
+            TextureHandle pyramid = b.create("reflections.color", TextureDesc{.format = kColorFormat, .mips = levels});
+            d.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
+        },
+        [this](const ReprojectData& d, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(d.depth), nearest)
+                .sampled(2, pc.view(d.motion), nearest)
+                .sampled(3, pc.view(d.lit), nearest)
+                .sampled(4, pc.view(d.historyColor), trilinear)
+                .sampled(5, pc.view(d.historyDepth), nearest)
+                .storage(6, pc.view(d.dst, mipLevel(0)));
+            dispatch(pc, reproject, w, pc.extent(d.dst, 0));
+        });
+    TextureHandle pyramid = r.dst;
+    struct DownData {
+        TextureHandle src, dst;
+        uint32_t level;
+    };
+    for (uint32_t level = 1; level < levels; ++level) {
+        const auto& d = g.addPass<DownData>(
+            levelName("color_pyramid", level), PassType::Compute,
+            [&](PassBuilder& b, DownData& data) {
+                data.level = level;
+                data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
+                data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
+            },
+            [this](const DownData& data, PassContext& pc) {
+                gpu::DescriptorWriter w = writer();
+                w.sampled(1, pc.view(data.src, mipLevel(data.level - 1)), nearest)
+                    .storage(2, pc.view(data.dst, mipLevel(data.level)));
+                dispatch(pc, colorDown, w, pc.extent(data.dst, data.level));
+            });
+        pyramid = d.dst;
+    }
+    return pyramid;
+}
+
+TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, hit;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.trace", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.hit = b.write(b.create("reflections.hit", TextureDesc{.format = kHitFormat}),
+                               TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.hiz), nearest)
+                .sampled(2, pc.view(data.normal), nearest)
+                .sampled(3, pc.view(data.emissive), nearest)
+                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
+                .storage(5, pc.view(data.hit));
+            dispatch(pc, trace, w, pc.extent(data.hit));
+        });
+    return d.hit;
+}
+
+void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, hit, color, visibility, reflection, method;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.resolve", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.hit = b.read(out.hit, TextureUsage::Sampled);
+            data.color = b.read(out.colorPyramid, TextureUsage::Sampled);
+            data.visibility = b.read(out.visibility, TextureUsage::Sampled);
+            data.reflection = b.write(b.create("reflections.reflection", TextureDesc{.format = kColorFormat}),
+                                      TextureUsage::StorageWrite);
+            data.method = b.write(b.create("reflections.method", TextureDesc{.format = kColorFormat}),
+                                  TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            const render::Environment& env = renderer.environment();
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.hiz), nearest)
+                .sampled(2, pc.view(data.normal), nearest)
+                .sampled(3, pc.view(data.emissive), nearest)
+                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
+                .sampled(5, pc.view(data.hit), nearest)
+                .sampled(6, pc.view(data.color), trilinear)
+                .sampled(7, pc.view(data.visibility), trilinear)
+                .sampled(8, env.specular().view(), env.sampler())
+                .storage(9, pc.view(data.reflection))
+                .storage(10, pc.view(data.method));
+            dispatch(pc, resolve, w, pc.extent(data.reflection));
+        });
+    out.reflection = d.reflection;
+    out.method = d.method;
+}
+
+TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
+                                              const ReflectionOutputs& out) {
+    struct Data {
+        TextureHandle lit, albedo, normal, emissive, reflection, hiz, hit, method, dst;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.composite", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.lit = b.read(in.lit, TextureUsage::Sampled);
+            data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.reflection = b.read(out.reflection, TextureUsage::Sampled);
+            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.hit = b.read(out.hit, TextureUsage::Sampled);
+            data.method = b.read(out.method, TextureUsage::Sampled);
+            data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
+                               TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            const render::Environment& env = renderer.environment();
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.lit), nearest)
+                .sampled(2, pc.view(data.albedo), nearest)
+                .sampled(3, pc.view(data.normal), nearest)
+                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
+                .sampled(5, pc.view(data.emissive), nearest)
+                .sampled(6, pc.view(data.reflection), nearest)
+                .sampled(7, env.dfg().view(), env.sampler())
+                .sampled(8, pc.view(data.hiz), nearest)
+                .sampled(9, pc.view(data.hit), nearest)
+                .sampled(10, pc.view(data.method), nearest)
+                .storage(11, pc.view(data.dst));
+            dispatch(pc, composite, w, pc.extent(data.dst));
+        });
+    return d.dst;
+}
+
+void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth) {
+    struct Data {
+        TextureHandle lit, depth, color, historyDepth;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.history", PassType::Transfer,
+        [&](PassBuilder& b, Data& data) {
+            data.lit = b.read(lit, TextureUsage::TransferSrc);
+            data.depth = b.read(depth, TextureUsage::TransferSrc);
+            data.color = b.write(historyColorHandle, TextureUsage::TransferDst);
+            data.historyDepth = b.write(historyDepthHandle, TextureUsage::TransferDst);
+        },
+        [](const Data& data, PassContext& pc) {
+            VkExtent2D e = pc.extent(data.lit);
+            VkImageCopy copy{};
+            copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            copy.dstSubresource = copy.srcSubresource;
+            copy.extent = {e.width, e.height, 1};
+            vkCmdCopyImage(pc.cmd(), pc.image(data.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.color),
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+            copy.srcSubresource.aspectMask = copy.dstSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+            vkCmdCopyImage(pc.cmd(), pc.image(data.depth), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           pc.image(data.historyDepth), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+        });
+    g.markOutput(d.color);
+    g.markOutput(d.historyDepth);
+    history.written = true;
+}
+
+TextureHandle Reflections::Impl::addHiZView(FrameGraph& g, TextureHandle hizPyramid) {
+    struct Data {
+        TextureHandle hiz, dst;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.hiz_view", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.dst = b.write(b.create("reflections.hiz_view", TextureDesc{.format = kColorFormat}),
+                               TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.hiz), nearest).storage(2, pc.view(data.dst));
+            dispatch(pc, hizView, w, pc.extent(data.dst));
+        });
+    return d.dst;
+}
+
+}  // namespace speculum::reflections

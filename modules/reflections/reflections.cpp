@@ -1,0 +1,196 @@
+// The module's entry point: resources that live across frames, the per-frame uniforms, and the
+// order of the passes (passes.cpp records them).
+#include "module_impl.hpp"
+
+#include "speculum/core.hpp"
+#include "speculum/reflections/math.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace speculum::reflections {
+namespace {
+
+constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+
+// Binding 0 is the frame's uniforms in every pipeline; then the given types in order.
+std::vector<gpu::Binding> bindings(std::initializer_list<std::pair<uint32_t, VkDescriptorType>> list) {
+    std::vector<gpu::Binding> b{{0, kUniform, kCompute}};
+    for (auto [binding, type] : list) b.push_back({binding, type, kCompute});
+    return b;
+}
+
+// Per material: mode, roughness scale, roughness override (-1: none), max screen-space
+// roughness. Materials without the extension, and glTF's default material, are off.
+std::vector<glm::vec4> materialTable(const Scene& scene) {
+    std::vector<glm::vec4> table;
+    for (const Material& m : scene.materials) {
+        if (!m.reflections || m.unlit) {
+            table.emplace_back(0.0f, 1.0f, -1.0f, 0.0f);
+            continue;
+        }
+        const MaterialReflections& r = *m.reflections;
+        table.emplace_back(float(uint32_t(r.mode)), r.roughnessScale, r.roughnessOverride.value_or(-1.0f),
+                           r.maxScreenSpaceRoughness);
+    }
+    table.emplace_back(0.0f, 1.0f, -1.0f, 0.0f);
+    table.resize(std::min<size_t>(table.size(), render::kMaxIndexedMaterials + 1));
+    return table;
+}
+
+}  // namespace
+
+Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
+    : ctx(c), renderer(r),
+      hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", bindings({{1, kSampled}, {2, kStorage}}),
+                                     sizeof(uint32_t), "reflections.hiz")),
+      visibility(gpu::createComputePipeline(c, "reflections/visibility.comp",
+                                            bindings({{1, kSampled}, {2, kSampled}, {3, kStorage}}),
+                                            sizeof(uint32_t), "reflections.visibility")),
+      reproject(gpu::createComputePipeline(
+          c, "reflections/reproject.comp",
+          bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kSampled}, {5, kSampled}, {6, kStorage}}), 0,
+          "reflections.reproject")),
+      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", bindings({{1, kSampled}, {2, kStorage}}),
+                                           0, "reflections.color_pyramid")),
+      trace(gpu::createComputePipeline(
+          c, "reflections/trace.comp",
+          bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}), 0,
+          "reflections.trace")),
+      resolve(gpu::createComputePipeline(c, "reflections/resolve.comp",
+                                         bindings({{1, kSampled},
+                                                   {2, kSampled},
+                                                   {3, kSampled},
+                                                   {4, kBuffer},
+                                                   {5, kSampled},
+                                                   {6, kSampled},
+                                                   {7, kSampled},
+                                                   {8, kSampled},
+                                                   {9, kStorage},
+                                                   {10, kStorage}}),
+                                         0, "reflections.resolve")),
+      composite(gpu::createComputePipeline(c, "reflections/composite.comp",
+                                           bindings({{1, kSampled},
+                                                     {2, kSampled},
+                                                     {3, kSampled},
+                                                     {4, kBuffer},
+                                                     {5, kSampled},
+                                                     {6, kSampled},
+                                                     {7, kSampled},
+                                                     {8, kSampled},
+                                                     {9, kSampled},
+                                                     {10, kSampled},
+                                                     {11, kStorage}}),
+                                           0, "reflections.composite")),
+      hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings({{1, kSampled}, {2, kStorage}}), 0,
+                                         "reflections.hiz_view")),
+      nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
+      trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
+      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "reflections.frame") {
+    std::vector<glm::vec4> table = materialTable(r.scene());
+    materialCount = uint32_t(table.size());
+    materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  "reflections.materials");
+}
+
+void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w,
+                                      uint32_t h, uint32_t levels) {
+    const render::CameraState& cam = in.frame.camera;
+    FrameUniforms u{};
+    u.viewProj = cam.viewProj;
+    u.invViewProj = cam.invViewProj;
+    u.prevViewProj = in.frame.previousCamera.viewProj;
+    u.view = cam.view;
+    u.camera = glm::vec4(cam.position, cam.znear);
+    u.size = glm::vec4(float(w), float(h), 1.0f / float(w), 1.0f / float(h));
+    u.trace = glm::vec4(float(s.maxIterations), float(s.linearPreSteps), float(s.hizStartLevel),
+                        float(s.hizStopLevel));
+    u.trace2 = glm::vec4(s.thickness, s.linearStride, float(s.linearMaxSteps), float(s.refineSteps));
+    // Radians per pixel at the image centre: a sphere of r pixels at view distance z has a
+    // world radius of about r * z * pixelAngle.
+    float pixelAngle = 2.0f * std::tan(cam.yfov * 0.5f) / float(h);
+    float envMaxMip = float(renderer.environment().mipCount() - 1);
+    u.cone = glm::vec4(float(s.coneSamples), s.maxRoughness, envMaxMip, pixelAngle);
+    u.fade = glm::vec4(s.edgeFade, s.cameraFadeStart, s.cameraFadeEnd, s.distanceFadeStart);
+    float exposure = std::max(renderer.options().exposure, 1e-6f);
+    u.fade2 = glm::vec4(s.distanceFadeEnd, float(s.debugHizMip), 1.0f / exposure, 0.0f);
+    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid ? 1u : 0u, levels);
+    u.modes2 = glm::uvec4(uint32_t(s.debugView), s.multiBounce ? 1u : 0u, materialCount, 0u);
+    std::memcpy(uniforms.mapped(), &u, sizeof(u));
+}
+
+void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
+    if (history.width == w && history.height == h) return;
+    history.color = gpu::Image(ctx,
+                               {w, h, render::kLinearFormat, 1, 1, false,
+                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                               "reflections.history.color");
+    history.depth = gpu::Image(ctx,
+                               {w, h, render::kDepthFormat, 1, 1, false,
+                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                               "reflections.history.depth");
+    history.width = w;
+    history.height = h;
+    history.valid = false;
+    history.written = false;
+}
+
+gpu::DescriptorWriter Reflections::Impl::writer() const {
+    gpu::DescriptorWriter w;
+    w.buffer(0, kUniform, uniforms.get());
+    return w;
+}
+
+void Reflections::Impl::dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::DescriptorWriter& w,
+                                 VkExtent2D extent, const void* push, uint32_t pushBytes) const {
+    p.bind(pc.cmd());
+    w.push(ctx, pc.cmd(), p);
+    if (push) vkCmdPushConstants(pc.cmd(), p.layout(), kCompute, 0, pushBytes, push);
+    vkCmdDispatch(pc.cmd(), (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+}
+
+Reflections::Reflections(const gpu::Context& ctx, render::Renderer& renderer)
+    : impl_(std::make_unique<Impl>(ctx, renderer)) {
+    renderer.options().reflectionsComposite = true;
+}
+
+Reflections::~Reflections() {
+    impl_->renderer.options().reflectionsComposite = false;
+}
+
+void Reflections::setActive(bool active) {
+    impl_->renderer.options().reflectionsComposite = active;
+    if (!active) impl_->history.valid = false;
+}
+
+void Reflections::resetHistory() {
+    impl_->history.valid = false;
+}
+
+ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& in,
+                                         const ReflectionSettings& s, bool hizView) {
+    Impl& m = *impl_;
+    uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
+    uint32_t levels = pyramidLevels(w, h);
+    m.ensureHistory(w, h);
+    m.writeUniforms(in, s, w, h, levels);
+
+    ReflectionOutputs out;
+    out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
+    out.visibility = m.addVisibility(graph, out.hiz, levels);
+    out.colorPyramid = m.addColorPyramid(graph, in, levels);
+    out.hit = m.addTrace(graph, in, out.hiz);
+    m.addResolve(graph, in, out);
+    out.lit = m.addComposite(graph, in, out);
+    if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
+    m.addHistory(graph, out.lit, in.gbuffer.depth);
+    m.history.valid = true;
+    return out;
+}
+
+}  // namespace speculum::reflections

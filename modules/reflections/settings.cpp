@@ -1,0 +1,88 @@
+// reflections.* settings: the one table (name, unit, range, default, help) behind JSON, --set,
+// the editor panel, the README's table and the tests.
+#include "speculum/reflections/reflections.hpp"
+
+namespace speculum::reflections {
+
+std::vector<SettingDesc> settingsTable() {
+    using T = SettingType;
+    return {
+        {"reflections.enabled", T::Bool, "", 0, 1, 1, {},
+         "Run the reflections module; off leaves the renderer's prefiltered-environment specular."},
+        {"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
+         "Screen-space tracer: hierarchical min/max Hi-Z traversal, or the linear march with binary "
+         "refinement kept as the baseline."},
+        {"reflections.max_iterations", T::Int, "", 1, 1024, 64, {},
+         "Hi-Z: most traversal iterations per ray (a ray out of iterations is a miss)."},
+        {"reflections.linear_pre_steps", T::Int, "", 0, 16, 2, {},
+         "Hi-Z: steps at level 0 before the hierarchy, to leave the reflecting surface cheaply."},
+        {"reflections.hiz_start_level", T::Int, "", 0, 12, 2, {},
+         "Hi-Z: level the hierarchical traversal starts at after the linear steps."},
+        {"reflections.hiz_stop_level", T::Int, "", 0, 6, 0, {},
+         "Hi-Z: level at which an overlap counts as a hit (0 = per pixel; higher is coarser and faster)."},
+        {"reflections.linear_stride", T::Float, "px", 1, 64, 2, {},
+         "Linear march: step length along the ray's major screen axis."},
+        {"reflections.linear_max_steps", T::Int, "", 1, 4096, 512, {},
+         "Linear march: most steps per ray before the binary refinement."},
+        {"reflections.refine_steps", T::Int, "", 0, 16, 5, {},
+         "Linear march: binary-search steps between the last miss and the first hit."},
+        {"reflections.thickness", T::Float, "x depth", 0.001, 4, 0.08, {},
+         "Assumed thickness of every surface as a fraction of its distance to the eye: rays "
+         "further behind a surface than this pass behind it."},
+        {"reflections.cone_samples", T::Int, "", 1, 32, 8, {},
+         "Cone tracing: most incircle samples per ray (stops earlier at full visibility)."},
+        {"reflections.coverage", T::Enum, "", 0, 1, 0, {"hit", "visibility"},
+         "Screen-space share of a pixel: `hit` (a hit covers fully, times the fades) or "
+         "`visibility` (the cone's accumulated pre-integrated visibility, as in the book)."},
+        {"reflections.max_roughness", T::Float, "", 0, 1, 0.6, {},
+         "Screen space is used up to this perceptual roughness (materials can lower it); the "
+         "environment takes over above it, faded over the last 0.1."},
+        {"reflections.edge_fade", T::Float, "x screen", 0, 0.5, 0.05, {},
+         "Hits closer to a screen edge than this share of the screen fade to the fallback."},
+        {"reflections.camera_fade_start", T::Float, "cos", -1, 1, -0.2, {},
+         "Rays toward the camera: fading starts where dot(ray, view direction) drops below this."},
+        {"reflections.camera_fade_end", T::Float, "cos", -1, 1, -0.6, {},
+         "Rays toward the camera: fully faded below this dot(ray, view direction)."},
+        {"reflections.distance_fade_start", T::Float, "m", 0, 10000, 40, {},
+         "Hits further than this from the reflecting point start fading."},
+        {"reflections.distance_fade_end", T::Float, "m", 0, 10000, 60, {},
+         "Hits further than this from the reflecting point are fully faded."},
+        {"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
+         "Build the colour pyramid from the previous frame's final image reprojected, so "
+         "reflections of reflections accumulate over frames."},
+        {"reflections.debug_view", T::Enum, "", 0, 6, 0,
+         {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection"},
+         "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
+         "method weights, a Hi-Z level, or the reflection alone."},
+        {"reflections.debug_hiz_mip", T::Int, "", 0, 15, 3, {},
+         "Hi-Z level shown by debug_view=hiz and the hiz AOV."},
+    };
+}
+
+ReflectionSettings ReflectionSettings::from(const Settings& s) {
+    ReflectionSettings r;
+    r.enabled = s.getBool("reflections.enabled");
+    r.trace = TraceMode(s.getInt("reflections.trace"));
+    r.maxIterations = s.getInt("reflections.max_iterations");
+    r.linearPreSteps = s.getInt("reflections.linear_pre_steps");
+    r.hizStartLevel = s.getInt("reflections.hiz_start_level");
+    r.hizStopLevel = s.getInt("reflections.hiz_stop_level");
+    r.linearStride = s.getFloat("reflections.linear_stride");
+    r.linearMaxSteps = s.getInt("reflections.linear_max_steps");
+    r.refineSteps = s.getInt("reflections.refine_steps");
+    r.thickness = s.getFloat("reflections.thickness");
+    r.coneSamples = s.getInt("reflections.cone_samples");
+    r.coverage = CoverageMode(s.getInt("reflections.coverage"));
+    r.maxRoughness = s.getFloat("reflections.max_roughness");
+    r.edgeFade = s.getFloat("reflections.edge_fade");
+    r.cameraFadeStart = s.getFloat("reflections.camera_fade_start");
+    r.cameraFadeEnd = s.getFloat("reflections.camera_fade_end");
+    r.distanceFadeStart = s.getFloat("reflections.distance_fade_start");
+    r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
+    r.multiBounce = s.getBool("reflections.multi_bounce");
+    r.debugView = DebugView(s.getInt("reflections.debug_view"));
+    r.debugHizMip = s.getInt("reflections.debug_hiz_mip");
+    return r;
+}
+
+}  // namespace speculum::reflections

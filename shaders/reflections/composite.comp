@@ -1,0 +1,70 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.composite: adds the reflection times the split-sum DFG term (F0 * A + B) to the
+// lit image on reflective pixels (render.lighting left their specular ambient out), or draws
+// the selected debug view instead.
+#include "common/brdf.glsl"
+#include "reflections/common.glsl"
+#include "reflections/material.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D litTex;
+layout(set = 0, binding = 2) uniform sampler2D albedoTex;   // rgb base colour, a metallic
+layout(set = 0, binding = 3) uniform sampler2D normalTex;
+layout(set = 0, binding = 5) uniform sampler2D emissiveTex;
+layout(set = 0, binding = 6) uniform sampler2D reflectionTex;
+layout(set = 0, binding = 7) uniform sampler2D dfgTex;      // linear clamp
+layout(set = 0, binding = 8) uniform sampler2D hiz;         // texelFetch
+layout(set = 0, binding = 9) uniform sampler2D hitTex;      // texelFetch
+layout(set = 0, binding = 10) uniform sampler2D methodTex;
+layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D dst;
+
+vec3 heat(float x) {
+    x = clamp(x, 0.0, 1.0);
+    return clamp(vec3(1.5 - abs(4.0 * x - 3.0), 1.5 - abs(4.0 * x - 2.0), 1.5 - abs(4.0 * x - 1.0)), 0.0, 1.0);
+}
+
+vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
+    vec3 dim = vec3(dot(lit, vec3(0.2126, 0.7152, 0.0722)) * 0.15);
+    vec4 hit = texelFetch(hitTex, pixel, 0);
+    if (view == 1u) return reflective ? heat(hit.w / max(rf.trace.x, 1.0)) : dim;
+    if (view == 2u) return reflective ? (hit.z > 0.0 ? vec3(0.1, 0.9, 0.1) : vec3(0.9, 0.1, 0.1)) : dim;
+    if (view == 3u) return reflective ? vec3(texelFetch(reflectionTex, pixel, 0).a) : dim;
+    if (view == 4u) return reflective ? texelFetch(methodTex, pixel, 0).rgb : dim;
+    if (view == 5u) {
+        int level = min(int(rf.fade2.y), int(rf.modes.w) - 1);
+        ivec2 cell = min(pixel >> level, hizLevelSize(level) - 1);
+        vec2 mm = texelFetch(hiz, cell, level).rg;
+        // log2 distance over 2^-2 .. 2^8 m: near is red, far is blue; x farthest, y closest.
+        float closest = (log2(linearDepth(mm.y)) + 2.0) / 10.0;
+        float farthest = (log2(linearDepth(mm.x)) + 2.0) / 10.0;
+        return heat(1.0 - closest) * (((pixel.x >> level) + (pixel.y >> level)) % 2 == 0 ? 1.0 : 0.85) *
+               (abs(farthest - closest) > 0.05 ? 0.6 : 1.0);
+    }
+    return texelFetch(reflectionTex, pixel, 0).rgb;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
+    vec3 lit = texelFetch(litTex, pixel, 0).rgb;
+    float depth = texelFetch(hiz, pixel, 0).g;
+    vec4 normalRough = texelFetch(normalTex, pixel, 0);
+    PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
+    bool reflective = depth > 0.0 && m.reflective;
+    vec3 color = lit;
+    if (reflective) {
+        vec4 albedo = texelFetch(albedoTex, pixel, 0);
+        vec3 p = worldAt(vec2(pixel) + 0.5, depth);
+        vec3 v = normalize(rf.camera.xyz - p);
+        float NoV = clamp(dot(normalize(normalRough.xyz), v), 0.0, 1.0);
+        vec2 dfg = textureLod(dfgTex, vec2(NoV, m.roughness), 0.0).rg;
+        vec3 f0 = specularF0(albedo.rgb, albedo.a);
+        color = lit + texelFetch(reflectionTex, pixel, 0).rgb * (f0 * dfg.x + dfg.y);
+    }
+    uint view = rf.modes2.x;
+    // Debug colours are divided by the exposure so that they reach the screen near their value.
+    if (view != 0u) color = debugView(view, pixel, reflective, lit) * rf.fade2.z;
+    imageStore(dst, pixel, vec4(color, 1.0));
+}

@@ -1,0 +1,30 @@
+// Per-material reflection settings (SPECULUM_reflections), looked up by the material index the
+// G-buffer stores above its flags. Include after common.glsl; the including shader binds the
+// table at binding 4.
+#ifndef SPECULUM_REFLECTIONS_MATERIAL_GLSL
+#define SPECULUM_REFLECTIONS_MATERIAL_GLSL
+
+layout(set = 0, binding = 4, std430) readonly buffer MaterialTable {
+    vec4 materials[];  // mode, roughness scale, roughness override (< 0 none), max SS roughness
+};
+
+struct PixelMaterial {
+    bool reflective;      // flagged, lit, and mode != off
+    bool screenSpace;     // mode screen space + fallbacks
+    float roughness;      // the reflection's perceptual roughness
+    float maxScreenSpace; // min(material, global) screen-space roughness limit
+};
+
+PixelMaterial pixelMaterial(float flagsValue, float gbufferRoughness) {
+    uint flags = uint(flagsValue);
+    PixelMaterial m;
+    uint index = min(flags >> kMaterialIndexShift, rf.modes2.z - 1u);
+    vec4 p = materials[index];
+    m.reflective = (flags & kFlagReflective) != 0u && (flags & kFlagUnlit) == 0u && uint(p.x) != kModeOff;
+    m.screenSpace = uint(p.x) == kModeScreenSpace;
+    m.roughness = clamp(p.z >= 0.0 ? p.z : gbufferRoughness * p.y, 0.0, 1.0);
+    m.maxScreenSpace = min(p.w, rf.cone.y);
+    return m;
+}
+
+#endif

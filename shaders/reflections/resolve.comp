@@ -1,0 +1,127 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.resolve: screen-space cone tracing (Uludag 4.4.5) from each pixel's hit, then the
+// environment for what screen space does not cover. The cone of the reflection's roughness
+// projects to an isosceles triangle from the pixel to the hit; circles inscribed in it, the
+// largest at the hit end, are sampled from the pre-convolved colour pyramid at the mip of their
+// size. Each sample weighs by the pre-integrated visibility there and by how far its sphere
+// reaches behind the Hi-Z cell's closest surface, until the weights add up to one.
+#include "reflections/common.glsl"
+#include "reflections/material.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D hiz;          // texelFetch
+layout(set = 0, binding = 2) uniform sampler2D normalTex;
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
+layout(set = 0, binding = 5) uniform sampler2D hitTex;       // texelFetch
+layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear
+layout(set = 0, binding = 7) uniform sampler2D visibility;   // trilinear
+layout(set = 0, binding = 8) uniform samplerCube envSpecular;
+layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
+layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
+
+// Twin of coneAngle() in modules/reflections/math.cpp.
+float coneAngle(float roughness) {
+    float alpha = max(roughness * roughness, 1e-4);
+    float power = 2.0 / (alpha * alpha) - 2.0;
+    if (power > 1048576.0) return 0.0;
+    return acos(pow(0.244, 1.0 / (power + 1.0)));
+}
+
+float incircleRadius(float base, float height) {
+    if (height <= 0.0 || base <= 0.0) return 0.0;
+    return base * (sqrt(base * base + 4.0 * height * height) - base) / (4.0 * height);
+}
+
+// Returns the cone's colour; `accumulated` is its summed visibility weight (at most 1).
+vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out float accumulated) {
+    vec2 delta = hit.xy - start;
+    float len = length(delta);
+    float theta = coneAngle(roughness);
+    vec3 mirror = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+    accumulated = 1.0;
+    if (theta <= 0.0 || len < 1.0) return mirror;
+    vec2 u = delta / len;
+    float tanTheta = tan(theta);
+    float maxMip = float(textureQueryLevels(colorPyramid) - 1);
+    int maxLevel = int(rf.modes.w) - 1;
+    float adjacent = len;
+    vec3 sum = vec3(0.0);
+    float total = 0.0;
+    vec3 first = mirror;
+    int samples = int(rf.cone.x);
+    for (int i = 0; i < samples; ++i) {
+        float r = incircleRadius(2.0 * tanTheta * adjacent, adjacent);
+        vec2 pos = start + u * (adjacent - r);
+        float mip = clamp(log2(max(r, 1.0)), 0.0, maxMip);
+        vec2 uv = pos * rf.size.zw;
+        vec3 c = textureLod(colorPyramid, uv, mip).rgb;
+        float vis = textureLod(visibility, uv, mip).r;
+        // Depth is affine along the screen-space ray, so the sample's ray depth interpolates.
+        float zRay = linearDepth(mix(startDepth, hit.z, (adjacent - r) / len));
+        float radius = r * zRay * rf.cone.w;
+        int level = clamp(int(round(mip)), 0, maxLevel);
+        ivec2 cell = min(ivec2(pos) >> level, hizLevelSize(level) - 1);
+        float zNear = linearDepth(texelFetch(hiz, cell, level).g);
+        float sphere = radius > 0.0 ? clamp((zRay + radius - zNear) / (2.0 * radius), 0.0, 1.0) : 1.0;
+        if (i == 0) first = c;
+        float w = min(vis * sphere, 1.0 - total);
+        sum += c * w;
+        total += w;
+        adjacent -= 2.0 * r;
+        if (total >= 0.999 || adjacent < 1.0) break;
+    }
+    accumulated = total;
+    return total > 1e-4 ? sum / total : first;
+}
+
+float edgeFade(vec2 hitPx) {
+    vec2 uv = hitPx * rf.size.zw;
+    float edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
+    return rf.fade.x > 0.0 ? clamp(edge / rf.fade.x, 0.0, 1.0) : 1.0;
+}
+
+float cameraFade(float cosAway) {
+    float span = rf.fade.y - rf.fade.z;
+    return span > 0.0 ? clamp((cosAway - rf.fade.z) / span, 0.0, 1.0) : (cosAway >= rf.fade.y ? 1.0 : 0.0);
+}
+
+float distanceFade(float dist) {
+    float span = rf.fade2.x - rf.fade.w;
+    return span > 0.0 ? 1.0 - clamp((dist - rf.fade.w) / span, 0.0, 1.0) : (dist <= rf.fade.w ? 1.0 : 0.0);
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
+    vec4 reflection = vec4(0.0);
+    vec4 method = vec4(0.0);
+    float depth = texelFetch(hiz, pixel, 0).g;
+    vec4 normalRough = texelFetch(normalTex, pixel, 0);
+    PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
+    if (depth > 0.0 && m.reflective) {
+        vec2 px = vec2(pixel) + 0.5;
+        vec3 p = worldAt(px, depth);
+        vec3 v = normalize(p - rf.camera.xyz);
+        vec3 r = reflect(v, normalize(normalRough.xyz));
+        vec3 env = textureLod(envSpecular, r, m.roughness * rf.cone.z).rgb;
+        vec3 screen = vec3(0.0);
+        float coverage = 0.0;
+        vec4 hit = texelFetch(hitTex, pixel, 0);
+        if (hit.z > 0.0) {
+            float accumulated;
+            screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
+            float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
+                          distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
+                          clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
+            coverage = clamp((rf.modes.y == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
+        }
+        vec3 radiance = mix(env, screen, coverage);
+        if (!finite3(radiance)) radiance = env;
+        reflection = vec4(max(radiance, vec3(0.0)), coverage);
+        method = vec4(coverage, 0.0, 1.0 - coverage, 1.0);
+    }
+    imageStore(reflectionOut, pixel, reflection);
+    imageStore(methodOut, pixel, method);
+}
