@@ -22,10 +22,11 @@ layout(location = 2) out vec4 outEmissive;  // rgb emissive (unlit: base colour)
 layout(location = 3) out vec2 outMotion;    // uv now - uv previous frame
 
 #ifdef GBUFFER_UNTEXTURED
-// The defaults' texels: white (the factors alone) and the flat normal (128, 128, 255), whose
-// 8-bit rounding tilts normals by 0.3 degrees; kept so that images do not change.
+// The defaults' texels: white (the factors alone) and the exactly flat normal. (The 8-bit
+// default texel (128, 128, 255) tilts normals by 0.3 degrees, which moves a mirror's
+// reflection of something 10 m away by 5 cm: the untextured path must not carry it.)
 #define SAMPLE_OR_WHITE(tex) vec4(1.0)
-#define NORMAL_TEXEL vec3(128.0 / 255.0, 128.0 / 255.0, 1.0)
+#define NORMAL_TEXEL vec3(0.5, 0.5, 1.0)
 #else
 #define SAMPLE_OR_WHITE(tex) texture(tex, inUV)
 #define NORMAL_TEXEL texture(normalTex, inUV).xyz

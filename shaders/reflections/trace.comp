@@ -59,6 +59,49 @@ float entryT(ScreenRay ray, float lo, float hi, float t0, float t1) {
     return clamp(te, t0, t1);
 }
 
+// Depth between pixel centres, bilinear in the four nearest samples: exact where the surface is
+// planar (depth is affine in screen space). `planar` is false across depth discontinuities.
+float surfaceDepth(vec2 pos, out bool planar) {
+    vec2 p = pos - 0.5;
+    ivec2 i = clamp(ivec2(floor(p)), ivec2(0), ivec2(rf.size.xy) - 2);
+    vec2 f = clamp(p - vec2(i), 0.0, 1.0);
+    float a = texelFetch(hiz, i, 0).g, b = texelFetch(hiz, i + ivec2(1, 0), 0).g;
+    float c = texelFetch(hiz, i + ivec2(0, 1), 0).g, d = texelFetch(hiz, i + ivec2(1, 1), 0).g;
+    float lo = min(min(a, b), min(c, d)), hi = max(max(a, b), max(c, d));
+    planar = lo > 0.0 && hi <= lo * 1.05;
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}
+
+// Sub-pixel hit: a pixel's single depth sample makes a ray that meets a surface at a grazing
+// screen-space angle stop up to several pixels early. Where the surface is smooth around the
+// hit, bisect the sign change of (ray depth - interpolated surface depth) within 1.5 pixels.
+const int kSubPixelSteps = 6;
+float refineHit(ScreenRay ray, float t, inout int iterations) {
+    float major = max(abs(ray.d.x), abs(ray.d.y));
+    float dt = 1.5 / major;
+    float a = max(t - dt, 0.0), b = min(t + dt, ray.tMax);
+    bool sa, sb;
+    float fa = ray.o.z + ray.d.z * a - surfaceDepth(ray.o.xy + ray.d.xy * a, sa);
+    float fb = ray.o.z + ray.d.z * b - surfaceDepth(ray.o.xy + ray.d.xy * b, sb);
+    // Only rays arriving from in front of a smooth surface (f > 0 in front, f <= 0 behind).
+    if (!(sa && sb && fa > 0.0 && fb <= 0.0)) return t;
+    for (int k = 0; k < kSubPixelSteps; ++k) {
+        float m = 0.5 * (a + b);
+        bool sm;
+        float fm = ray.o.z + ray.d.z * m - surfaceDepth(ray.o.xy + ray.d.xy * m, sm);
+        if (!sm) return t;
+        if (fm > 0.0) a = m;
+        else b = m;
+    }
+    iterations += kSubPixelSteps;
+    return b;
+}
+
+vec4 hitAt(ScreenRay ray, float t, int iterations) {
+    t = refineHit(ray, t, iterations);
+    return vec4(ray.o.xy + ray.d.xy * t, ray.o.z + ray.d.z * t, float(iterations));
+}
+
 // The pixel under the ray only moves forward along each axis. A point exactly on a cell
 // boundary floors into the cell just left; without this the traversal could step back into it
 // and cycle between two levels until out of iterations.
@@ -98,8 +141,7 @@ vec4 traceHiZ(ScreenRay ray, ivec2 start) {
                 // Before the entry point the ray is in front of (or behind) everything in the
                 // cell: move there, then look closer (Uludag's intersectDepthPlane).
                 t = entryT(ray, lo, mm.y, t, tEnd);
-                if (level <= stopLevel)
-                    return vec4(ray.o.xy + ray.d.xy * t, ray.o.z + ray.d.z * t, float(it + 1));
+                if (level <= stopLevel) return hitAt(ray, t, it + 1);
                 pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), cmin, cmax), ray.d.xy);
                 --level;
                 continue;
@@ -152,7 +194,7 @@ vec4 traceLinear(ScreenRay ray) {
                 if (behind(ray, m, unused)) b = m;
                 else a = m;
             }
-            return vec4(ray.o.xy + ray.d.xy * b, ray.o.z + ray.d.z * b, float(i + refine));
+            return hitAt(ray, b, i + refine);
         }
         prev = t;
     }

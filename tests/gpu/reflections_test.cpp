@@ -1,0 +1,261 @@
+// The reflections module on lavapipe: the Hi-Z pyramid against a CPU min/max of the same
+// depth, both tracers against CPU ray-box intersections on an analytic scene, and no NaN, Inf
+// or negative radiance in `reflection` on every scene, camera and test size.
+#include "render_test_support.hpp"
+
+#include "speculum/app/frame_runner.hpp"
+#include "speculum/reflections/hook.hpp"
+#include "speculum/reflections/math.hpp"
+#include "speculum/reflections/reflections.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+using namespace speculum;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Readback {
+    std::vector<std::vector<reflections::MinMax>> hiz;  // per level
+    std::vector<glm::vec4> hit;
+    app::FrameResult result;
+};
+
+// Renders one frame with the module and copies every Hi-Z level and the hit image out.
+Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, reflections::Reflections& module,
+                          const reflections::ReflectionSettings& s, const render::CameraState& camera,
+                          const std::vector<std::string>& aovs) {
+    uint32_t w = camera.width, h = camera.height, levels = reflections::pyramidLevels(w, h);
+    std::vector<gpu::Buffer> hizBuffers;
+    for (uint32_t l = 0; l < levels; ++l)
+        hizBuffers.emplace_back(ctx, VkDeviceSize(reflections::levelSize(w, l)) * reflections::levelSize(h, l) * 8,
+                                VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hiz");
+    gpu::Buffer hitBuffer(ctx, VkDeviceSize(w) * h * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hit");
+    render::FrameInputs frame{camera, camera};
+    app::LitHook hook = [&](FrameGraph& fg, const render::GBuffer& g, TextureHandle lit, app::ModuleAovs& m) {
+        reflections::ReflectionOutputs out = module.addPasses(fg, {g, lit, frame}, s);
+        m.provided["reflection"] = {out.reflection, 3};
+        struct Data {
+            TextureHandle hiz, hit;
+        };
+        fg.addPass<Data>(
+            "test.readback", PassType::Transfer,
+            [&](PassBuilder& b, Data& d) {
+                d.hiz = b.read(out.hiz, TextureUsage::TransferSrc);
+                d.hit = b.read(out.hit, TextureUsage::TransferSrc);
+                b.sideEffect();
+            },
+            [&, levels](const Data& d, PassContext& pc) {
+                for (uint32_t l = 0; l < levels; ++l) {
+                    VkBufferImageCopy c{};
+                    c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, l, 0, 1};
+                    c.imageExtent = {reflections::levelSize(w, l), reflections::levelSize(h, l), 1};
+                    vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.hiz), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                           hizBuffers[l].get(), 1, &c);
+                }
+                VkBufferImageCopy c{};
+                c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                c.imageExtent = {w, h, 1};
+                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.hit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitBuffer.get(),
+                                       1, &c);
+            });
+        return out.lit;
+    };
+    app::FrameRunner runner(ctx, renderer, w, h);
+    Readback r;
+    r.result = runner.render(frame, aovs, hook);
+    for (uint32_t l = 0; l < levels; ++l) {
+        size_t n = size_t(reflections::levelSize(w, l)) * reflections::levelSize(h, l);
+        std::vector<reflections::MinMax> level(n);
+        std::memcpy(level.data(), hizBuffers[l].mapped(), n * sizeof(reflections::MinMax));
+        r.hiz.push_back(std::move(level));
+    }
+    r.hit.resize(size_t(w) * h);
+    std::memcpy(r.hit.data(), hitBuffer.mapped(), r.hit.size() * sizeof(glm::vec4));
+    return r;
+}
+
+fs::path assetPath(const std::string& rel) {
+    return fs::path(SPECULUM_SOURCE_DIR) / rel;
+}
+
+}  // namespace
+
+class ReflectionsGpu : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
+    static void TearDownTestSuite() {
+        delete ctx_;
+        ctx_ = nullptr;
+    }
+    static gpu::Context* ctx_;
+};
+gpu::Context* ReflectionsGpu::ctx_ = nullptr;
+
+TEST_F(ReflectionsGpu, HiZEqualsCpuMinMaxAtOddAndEvenSizes) {
+    Scene scene = loadScene(assetPath("assets/scenes/gallery.gltf"));
+    render::Renderer renderer(*ctx_, scene);
+    reflections::Reflections module(*ctx_, renderer);
+    for (auto [w, h] : {std::pair{317u, 181u}, std::pair{640u, 360u}}) {
+        render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
+        Readback r = renderWithModule(*ctx_, renderer, module, {}, cam, {"depth"});
+        const app::AovImage& depthAov = r.result.aovs.at("depth");
+        std::vector<float> depth(size_t(w) * h);
+        for (size_t i = 0; i < depth.size(); ++i) depth[i] = depthAov.rgba[i * 4];
+        auto cpu = reflections::buildHiZ(depth, w, h);
+        ASSERT_EQ(cpu.size(), r.hiz.size());
+        for (size_t l = 0; l < cpu.size(); ++l)
+            for (size_t i = 0; i < cpu[l].size(); ++i) {
+                ASSERT_EQ(r.hiz[l][i].farthest, cpu[l][i].farthest) << w << "x" << h << " level " << l << " cell " << i;
+                ASSERT_EQ(r.hiz[l][i].closest, cpu[l][i].closest) << w << "x" << h << " level " << l << " cell " << i;
+            }
+    }
+}
+
+namespace {
+
+struct Box {
+    glm::vec3 lo, hi;
+};
+
+// Slab test; returns the entry distance or -1.
+float hitBox(const Box& b, glm::vec3 o, glm::vec3 d) {
+    glm::vec3 inv = 1.0f / d;
+    glm::vec3 t0 = (b.lo - o) * inv, t1 = (b.hi - o) * inv;
+    glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
+    float enter = std::max(std::max(tn.x, tn.y), tn.z), exit = std::min(std::min(tf.x, tf.y), tf.z);
+    return enter <= exit && enter > 1e-4f ? enter : -1.0f;
+}
+
+// The analytic scene: a mirror floor (y = 0, |x|, |z| < 10), three cubes on it and a wall at
+// z = -8; everything but the floor is a matte box for the CPU.
+struct Analytic {
+    std::vector<Box> boxes{{{-1.7f, 0.0f, -2.5f}, {-0.7f, 1.0f, -1.5f}},
+                           {{0.2f, 0.0f, -4.2f}, {1.6f, 1.4f, -2.8f}},
+                           {{-0.1f, 0.0f, -1.3f}, {0.5f, 0.6f, -0.7f}},
+                           {{-10.0f, -5.0f, -8.2f}, {10.0f, 15.0f, -8.0f}}};
+    // First hit along the ray: distance, and whether it is the floor.
+    float first(glm::vec3 o, glm::vec3 d, bool& floor) const {
+        float best = -1.0f;
+        floor = false;
+        for (const Box& b : boxes) {
+            float t = hitBox(b, o, d);
+            if (t > 0.0f && (best < 0.0f || t < best)) best = t;
+        }
+        if (d.y < 0.0f) {
+            float t = -o.y / d.y;
+            glm::vec3 p = o + d * t;
+            if (t > 1e-4f && std::abs(p.x) < 10.0f && std::abs(p.z) < 10.0f && (best < 0.0f || t < best)) {
+                best = t;
+                floor = true;
+            }
+        }
+        return best;
+    }
+};
+
+Scene analyticScene(const Analytic& a) {
+    Scene scene;
+    Material mirror;
+    mirror.name = "mirror";
+    mirror.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    mirror.reflections = MaterialReflections{};
+    Material matte;
+    matte.name = "matte";
+    matte.baseColor = glm::vec4(0.7f, 0.5f, 0.3f, 1.0f);
+    matte.metallic = 0.0f;
+    matte.roughness = 0.8f;
+    scene.materials = {mirror, matte};
+    using render::test::square;
+    render::test::addMesh(scene, square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 10.0f, 0));
+    for (const Box& b : a.boxes) {
+        glm::vec3 c = (b.lo + b.hi) * 0.5f, e = (b.hi - b.lo) * 0.5f;
+        // Cubes: one half-size; the wall is a square facing +z.
+        if (e.z < 0.5f * e.x) {
+            render::test::addMesh(scene, square({c.x, c.y, b.hi.z}, {1, 0, 0}, {0, 1, 0}, e.x, 1));
+            continue;
+        }
+        float s = e.x;
+        render::test::addMesh(scene, square(c + glm::vec3(s, 0, 0), {0, 1, 0}, {0, 0, 1}, s, 1));
+        render::test::addMesh(scene, square(c - glm::vec3(s, 0, 0), {0, 0, 1}, {0, 1, 0}, s, 1));
+        render::test::addMesh(scene, square(c + glm::vec3(0, s, 0), {0, 0, 1}, {1, 0, 0}, s, 1));
+        render::test::addMesh(scene, square(c + glm::vec3(0, 0, s), {1, 0, 0}, {0, 1, 0}, s, 1));
+        render::test::addMesh(scene, square(c - glm::vec3(0, 0, s), {0, 1, 0}, {1, 0, 0}, s, 1));
+    }
+    return scene;
+}
+
+}  // namespace
+
+// Both tracers hit where a CPU ray-box intersection says, within 1 pixel, for at least 99% of
+// the mirror rays whose true hit is on screen and visible from the camera.
+TEST_F(ReflectionsGpu, TracersHitWhereCpuIntersectionSays) {
+    Analytic a;
+    Scene scene = analyticScene(a);
+    render::Renderer renderer(*ctx_, scene);
+    reflections::Reflections module(*ctx_, renderer);
+    const uint32_t w = 400, h = 240;
+    render::CameraState cam = render::makeCamera({0.3f, 1.4f, 3.0f}, {0.0f, 0.4f, -2.5f}, {0, 1, 0},
+                                                 glm::radians(60.0f), w, h);
+    for (auto mode : {reflections::TraceMode::HiZ, reflections::TraceMode::Linear}) {
+        reflections::ReflectionSettings s;
+        s.trace = mode;
+        s.maxIterations = 256;
+        Readback r = renderWithModule(*ctx_, renderer, module, s, cam, {});
+        size_t checked = 0, good = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                glm::vec3 o, d;
+                render::primaryRay(cam, float(x), float(y), o, d);
+                bool floor = false;
+                float t = a.first(o, d, floor);
+                if (!floor) continue;
+                glm::vec3 p = o + d * t;
+                glm::vec3 rd = glm::reflect(d, glm::vec3(0, 1, 0));
+                bool again = false;
+                float tr = a.first(p, rd, again);
+                if (tr <= 0.0f) continue;
+                glm::vec3 hit = p + rd * tr;
+                glm::vec4 clip = cam.viewProj * glm::vec4(hit, 1.0f);
+                if (clip.w <= 0.0f) continue;
+                glm::vec2 px = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(w, h);
+                if (px.x < 1.0f || px.y < 1.0f || px.x > w - 1.0f || px.y > h - 1.0f) continue;
+                // Visible: the camera's ray towards the hit meets nothing before it.
+                glm::vec3 toHit = hit - cam.position;
+                bool f2 = false;
+                float tv = a.first(cam.position, glm::normalize(toHit), f2);
+                if (std::abs(tv - glm::length(toHit)) > 1e-3f * glm::length(toHit)) continue;
+                ++checked;
+                glm::vec4 g = r.hit[size_t(y) * w + x];
+                if (g.z > 0.0f && glm::distance(glm::vec2(g), px) <= 1.0f) ++good;
+            }
+        ASSERT_GT(checked, 5000u) << "the analytic view must show many on-screen reflections";
+        double share = double(good) / double(checked);
+        EXPECT_GE(share, 0.99) << (mode == reflections::TraceMode::HiZ ? "hiz" : "linear") << ": " << good << " of "
+                               << checked << " mirror rays within 1 px";
+    }
+}
+
+// `reflection` holds finite, non-negative radiance on every scene, camera and test size.
+TEST_F(ReflectionsGpu, ReflectionIsFiniteAndNonNegativeEverywhere) {
+    const std::pair<uint32_t, uint32_t> sizes[] = {{320, 180}, {317, 181}, {641, 359}, {400, 300}, {333, 187}};
+    for (const char* name : {"gallery", "cornell_mirrors", "failure_cases"}) {
+        Scene scene = loadScene(assetPath(std::string("assets/scenes/") + name + ".gltf"));
+        render::Renderer renderer(*ctx_, scene);
+        reflections::Reflections module(*ctx_, renderer);
+        for (const Camera& camera : scene.cameras)
+            for (auto [w, h] : sizes) {
+                render::CameraState cam = render::makeCamera(camera, w, h);
+                app::FrameResult res = renderWithModule(*ctx_, renderer, module, {}, cam, {"reflection"}).result;
+                const app::AovImage& img = res.aovs.at("reflection");
+                size_t bad = 0;
+                for (float v : img.rgba) bad += !std::isfinite(v) || v < 0.0f;
+                EXPECT_EQ(bad, 0u) << name << "/" << camera.name << " at " << w << "x" << h;
+            }
+    }
+}
