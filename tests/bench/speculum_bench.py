@@ -1,0 +1,314 @@
+#!/usr/bin/env python3
+"""speculum-bench: speed against accuracy for every reflection method (DESIGN.md section 7).
+
+    speculum-bench --suite tests/bench/suite.json --out DIR
+
+For each view (scene, camera) and size of the suite it renders the ground truth once with
+speculum-reference (cached under --cache by a hash of everything that changes the image), then
+for each method runs speculum-capture with warm-up frames, reads the per-pass GPU timestamp
+medians from timings.json (reflection ms = the sum of the reflections.* passes) and scores the
+method's reflection AOV against the reference with speculum-metrics (PSNR, MAE and gross-error
+share on reflective pixels). Writes results.csv, results.json, chart.png and chart.svg (x =
+reflection ms, y = PSNR, one colour per method, Pareto front), heatmaps/*.png and summary.md.
+
+Until the capture has the reflections module (`--aov reflection` is exit 2), it benches the one
+method the engine has, "env_only" (the split-sum sky on reflective surfaces), on the linear AOV.
+"""
+import argparse
+import csv
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+SOURCE = Path(__file__).resolve().parents[2]
+
+
+def fail(message, code=2):
+    print(f"speculum-bench: {message}", file=sys.stderr)
+    sys.exit(code)
+
+
+def load_suite(path):
+    try:
+        suite = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as e:
+        fail(f"{path}: cannot read the suite: {e}", 3)
+    for key, kind in (("methods", dict), ("sizes", list), ("views", list), ("reference", dict)):
+        if not isinstance(suite.get(key), kind):
+            fail(f"{path}: '{key}' must be a JSON {kind.__name__}", 3)
+    for v in suite["views"]:
+        if not isinstance(v, dict) or "scene" not in v or "camera" not in v:
+            fail(f"{path}: every view needs 'scene' and 'camera', got {v}", 3)
+    suite.setdefault("warmup", 3)
+    suite.setdefault("frames", 5)
+    suite.setdefault("aov", "reflection")
+    return suite
+
+
+def scene_file(view):
+    return SOURCE / view.get("file", f"assets/scenes/{view['scene']}.gltf")
+
+
+def scene_inputs(gltf):
+    """The scene file and every file it names (buffers, images, the environment)."""
+    files = [gltf]
+    doc = json.loads(gltf.read_text())
+    for key in ("buffers", "images"):
+        for item in doc.get(key, []):
+            uri = item.get("uri", "")
+            if uri and not uri.startswith("data:"):
+                files.append(gltf.parent / uri)
+    for scene in doc.get("scenes", []):
+        env = scene.get("extras", {}).get("environment")
+        if isinstance(env, str):
+            files.append(gltf.parent / env)
+    return files
+
+
+def file_hash(path, cache={}):
+    if path not in cache:
+        cache[path] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return cache[path]
+
+
+def reference_key(view, size, settings, reference_binary):
+    """Everything that changes a reference image: the scene's files, camera, size, spp,
+    bounces, seed and the renderer itself."""
+    h = hashlib.sha256()
+    for f in scene_inputs(scene_file(view)):
+        h.update(f.name.encode() + file_hash(f).encode())
+    h.update(json.dumps([view["camera"], size, settings], sort_keys=True).encode())
+    h.update(file_hash(reference_binary).encode())
+    return h.hexdigest()[:24]
+
+
+def run(cmd, log):
+    with open(log, "w") as out:
+        return subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode
+
+
+def render_reference(tools, view, size, settings, cache):
+    key = reference_key(view, size, settings, tools.reference)
+    out = cache / key
+    if (out / "reference.json").exists():
+        return out, True
+    # A private folder, renamed into place when complete: parallel tests may render the same key.
+    tmp = cache / f"{key}.tmp{os.getpid()}"
+    cmd = [tools.reference, "--scene", str(scene_file(view)), "--camera", view["camera"], "--size", size,
+           "--spp", str(settings["spp"]), "--bounces", str(settings["bounces"]),
+           "--seed", str(settings.get("seed", 1)), "--aov", "linear,reflection,reflective", "--out", str(tmp)]
+    tmp.mkdir(parents=True, exist_ok=True)
+    if run(cmd, tmp / "log.txt") != 0:
+        fail(f"speculum-reference failed for {view['scene']}/{view['camera']} {size}; see {tmp / 'log.txt'}", 1)
+    try:
+        tmp.rename(out)
+    except OSError:  # another process finished the same key first: its images are identical
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out, False
+
+
+def capture_has_reflections(tools, view, scratch):
+    cmd = [tools.capture, "--scene", str(scene_file(view)), "--camera", view["camera"], "--size", "32x18",
+           "--warmup", "0", "--aov", "reflection", "--out", str(scratch)]
+    return run(cmd, scratch.parent / "probe.txt") != 2
+
+
+def last_frame(folder, aov):
+    files = sorted(folder.glob(f"{aov}.*.exr"))
+    if not files:
+        fail(f"{folder}: speculum-capture wrote no {aov} image", 1)
+    return files[-1]
+
+
+def capture(tools, view, size, method_sets, aov, suite, out):
+    cmd = [tools.capture, "--scene", str(scene_file(view)), "--camera", view["camera"], "--size", size,
+           "--warmup", str(suite["warmup"]), "--frames", str(suite["frames"]), "--aov", aov, "--out", str(out)]
+    for s in method_sets:
+        cmd += ["--set", s]
+    out.mkdir(parents=True, exist_ok=True)
+    if run(cmd, out / "log.txt") != 0:
+        fail(f"speculum-capture failed ({' '.join(map(str, cmd))}); see {out / 'log.txt'}", 1)
+    timings = json.loads((out / "timings.json").read_text())
+    passes = {p["name"]: p["median_ms"] for p in timings["passes"]}
+    reflection_ms = sum(ms for name, ms in passes.items() if name.startswith("reflections."))
+    return last_frame(out, aov), reflection_ms, timings["frame"]["median_ms"], timings.get("device", "")
+
+
+def score(tools, test, ref_dir, aov, exposure, heatmap):
+    cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / f"{aov}.0000.exr"),
+           "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--scale", str(exposure), "--heatmap", str(heatmap)]
+    if aov == "reflection":
+        cmd += ["--test-mask", str(test)]
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        fail(f"speculum-metrics failed: {result.stderr.strip()}", 1)
+    return json.loads(result.stdout)
+
+
+def progress(i, n, label, start):
+    elapsed = time.monotonic() - start
+    eta = elapsed / i * (n - i) if i else 0.0
+    print(f"[{i}/{n}] {label}  ({elapsed:.0f} s elapsed, ~{eta:.0f} s left)", flush=True)
+
+
+def bench(args, tools):
+    suite = load_suite(args.suite)
+    out = Path(args.out)
+    cache = Path(args.cache) if args.cache else out / "reference-cache"
+    for d in (out / "heatmaps", out / "runs", cache):
+        d.mkdir(parents=True, exist_ok=True)
+    methods, aov = suite["methods"], suite["aov"]
+    if aov == "reflection" and not capture_has_reflections(tools, suite["views"][0], out / "runs" / "probe"):
+        print("speculum-bench: this speculum-capture has no reflections module (--aov reflection is exit 2); "
+              "benching 'env_only' on the linear AOV instead", flush=True)
+        methods, aov = {"env_only": []}, "linear"
+    jobs = [(v, s) for v in suite["views"] for s in suite["sizes"]]
+    total = len(jobs) * (1 + len(methods))
+    step, start, rows = 0, time.monotonic(), []
+    for view, size in jobs:
+        name = f"{view['scene']}.{view['camera']}.{size}"
+        step += 1
+        progress(step, total, f"reference {name}", start)
+        ref_dir, cached = render_reference(tools, view, size, suite["reference"], cache)
+        ref_info = json.loads((ref_dir / "reference.json").read_text())
+        for method, sets in methods.items():
+            step += 1
+            progress(step, total, f"capture {name} {method}", start)
+            run_dir = out / "runs" / f"{name}.{method}"
+            image, refl_ms, frame_ms, device = capture(tools, view, size, sets, aov, suite, run_dir)
+            m = score(tools, image, ref_dir, aov, ref_info["exposure"], out / "heatmaps" / f"{name}.{method}.png")
+            rows.append({"scene": view["scene"], "camera": view["camera"], "size": size, "method": method,
+                         "aov": aov, "reflection_ms": refl_ms, "frame_ms": frame_ms, "psnr_db": m["psnr_db"],
+                         "mae": m["mae"], "gross_share": m["gross_share"], "pixels": m["pixels"],
+                         "reference_seconds": ref_info["frames"][0]["seconds"], "reference_cached": cached,
+                         "device": device})
+    write_results(out, suite, rows, time.monotonic() - start)
+
+
+def configurations(rows):
+    """Mean over views per (method, size): the points of the chart."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["method"], r["size"]), []).append(r)
+    configs = []
+    for (method, size), rs in groups.items():
+        scored = [r["psnr_db"] for r in rs if r["psnr_db"] is not None]
+        configs.append({"method": method, "size": size, "views": len(rs),
+                        "reflection_ms": sum(r["reflection_ms"] for r in rs) / len(rs),
+                        "frame_ms": sum(r["frame_ms"] for r in rs) / len(rs),
+                        "psnr_db": sum(scored) / len(scored) if scored else None,
+                        "mae": sum(r["mae"] for r in rs) / len(rs),
+                        "gross_share": sum(r["gross_share"] for r in rs) / len(rs)})
+    for c in configs:
+        # On the front when no other configuration is at least as fast and as accurate, and
+        # strictly better in one of the two.
+        c["pareto"] = c["psnr_db"] is not None and not any(
+            o is not c and o["psnr_db"] is not None and o["reflection_ms"] <= c["reflection_ms"]
+            and o["psnr_db"] >= c["psnr_db"]
+            and (o["reflection_ms"] < c["reflection_ms"] or o["psnr_db"] > c["psnr_db"]) for o in configs)
+    return sorted(configs, key=lambda c: (c["size"], c["method"]))
+
+
+def write_results(out, suite, rows, seconds):
+    fields = list(rows[0].keys()) if rows else []
+    with open(out / "results.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+    configs = configurations(rows)
+    (out / "results.json").write_text(json.dumps({"suite": suite, "seconds": seconds, "rows": rows,
+                                                   "configurations": configs}, indent=2))
+    chart(out, rows, configs)
+    summary(out, rows, configs, seconds)
+    print(f"speculum-bench: {len(rows)} runs in {seconds:.0f} s; results in {out}")
+
+
+def chart(out, rows, configs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    methods = sorted({r["method"] for r in rows})
+    colours = {m: plt.get_cmap("tab10")(i) for i, m in enumerate(methods)}
+    markers = {s: "osD^v<>"[i % 7] for i, s in enumerate(sorted({r["size"] for r in rows}))}
+    for r in rows:
+        if r["psnr_db"] is not None:
+            ax.scatter(r["reflection_ms"], r["psnr_db"], color=colours[r["method"]], marker=markers[r["size"]],
+                       alpha=0.25, s=18)
+    for c in configs:
+        if c["psnr_db"] is None:
+            continue
+        ax.scatter(c["reflection_ms"], c["psnr_db"], color=colours[c["method"]], marker=markers[c["size"]], s=90,
+                   edgecolors="black", label=f"{c['method']} {c['size']}")
+        ax.annotate(c["size"], (c["reflection_ms"], c["psnr_db"]), textcoords="offset points", xytext=(6, 4),
+                    fontsize=8)
+    front = sorted((c for c in configs if c["pareto"]), key=lambda c: c["reflection_ms"])
+    if front:
+        ax.step([c["reflection_ms"] for c in front], [c["psnr_db"] for c in front], where="post", color="black",
+                linestyle="--", linewidth=1, label="Pareto front")
+    ax.set_xlabel("reflection ms (GPU timestamp medians of the reflections.* passes)")
+    ax.set_ylabel("PSNR on reflective pixels (dB, clamped linear)")
+    ax.set_title("Speed against accuracy (large markers: mean over views; small: one view)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    fig.savefig(out / "chart.png", dpi=120)
+    fig.savefig(out / "chart.svg")
+    plt.close(fig)
+
+
+def fmt(v, digits=2):
+    return "n/a" if v is None else f"{v:.{digits}f}"
+
+
+def summary(out, rows, configs, seconds):
+    device = rows[0]["device"] if rows else ""
+    lines = [f"# speculum-bench summary", "",
+             f"{len(rows)} runs in {seconds:.0f} s on {device}; chart: `chart.png` / `chart.svg`, "
+             f"heatmaps in `heatmaps/`. Accuracy is on reflective pixels, clamped linear after the scene's "
+             f"exposure (tests/reference/README.md).", "",
+             "## Configurations (mean over views)", "",
+             "| method | size | reflection ms | frame ms | PSNR dB | MAE | gross share | Pareto |",
+             "|---|---|---|---|---|---|---|---|"]
+    for c in configs:
+        lines.append(f"| {c['method']} | {c['size']} | {fmt(c['reflection_ms'])} | {fmt(c['frame_ms'])} | "
+                     f"{fmt(c['psnr_db'])} | {fmt(c['mae'], 4)} | {fmt(c['gross_share'], 4)} | "
+                     f"{'yes' if c['pareto'] else ''} |")
+    lines += ["", "## Where each method stands", ""]
+    for method in sorted({c["method"] for c in configs}):
+        mine = [c for c in configs if c["method"] == method]
+        on_front = [c["size"] for c in mine if c["pareto"]]
+        best = max((c for c in mine if c["psnr_db"] is not None), key=lambda c: c["psnr_db"], default=None)
+        lines.append(f"- **{method}**: on the Pareto front at {', '.join(on_front) if on_front else 'no size'}; "
+                     f"best PSNR {fmt(best['psnr_db'] if best else None)} dB at {best['size'] if best else 'n/a'} "
+                     f"for {fmt(best['reflection_ms'] if best else None)} ms of reflections.")
+    lines += ["", "## Every run", "", "| scene | camera | size | method | reflection ms | PSNR dB | MAE | gross share |",
+              "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['scene']} | {r['camera']} | {r['size']} | {r['method']} | {fmt(r['reflection_ms'])} | "
+                     f"{fmt(r['psnr_db'])} | {fmt(r['mae'], 4)} | {fmt(r['gross_share'], 4)} |")
+    (out / "summary.md").write_text("\n".join(lines) + "\n")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--suite", required=True, help="suite JSON (tests/bench/suite.json)")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--cache", help="reference image cache (default OUT/reference-cache)")
+    p.add_argument("--capture", required=True, help=argparse.SUPPRESS)
+    p.add_argument("--reference", required=True, help=argparse.SUPPRESS)
+    p.add_argument("--metrics", required=True, help=argparse.SUPPRESS)
+    args = p.parse_args()
+    for tool in (args.capture, args.reference, args.metrics):
+        if not os.access(tool, os.X_OK):
+            fail(f"{tool}: not built (cmake --build the build folder first)", 2)
+    bench(args, args)
+
+
+if __name__ == "__main__":
+    main()
