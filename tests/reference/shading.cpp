@@ -101,6 +101,7 @@ struct Renderer::Impl {
 
     Impl(const Scene& s, const Options& o);
     const Image* usableImage(const TextureRef& t) const;
+    glm::vec3 flatNormalTexel(const Material& m) const;
     Surface surface(const Hit& hit, glm::vec3 dir) const;
     glm::vec3 directAndAmbient(const Surface& s, glm::vec3 v, uint64_t& rays) const;
     glm::vec3 specularWeight(const Surface& s, glm::vec3 v, float roughness) const;
@@ -130,8 +131,20 @@ const Image* Renderer::Impl::usableImage(const TextureRef& t) const {
     return &img;
 }
 
-// gbuffer_frag.glsl: material factors times textures, and the shading normal including the
-// flat normal texel (128, 128, 255) that the engine samples when a material has no normal map.
+// What a material without a normal map puts in the tangent-space normal: the untextured G-buffer
+// pipeline uses the exact (0.5, 0.5, 1); a textured material samples the engine's 1x1 default
+// normal image, whose 8-bit (128, 128, 255) tilts the normal by 0.3 degrees (scene_gpu.cpp
+// resolveMaterial decides which pipeline a material gets).
+glm::vec3 Renderer::Impl::flatNormalTexel(const Material& m) const {
+    bool placeholderNormal = m.normalTexture.image >= 0 && size_t(m.normalTexture.image) < scene.images.size() &&
+                             scene.images[size_t(m.normalTexture.image)].placeholder;
+    bool untextured = !usableImage(m.baseColorTexture) && !usableImage(m.metallicRoughnessTexture) &&
+                      (placeholderNormal || !usableImage(m.normalTexture)) &&
+                      (m.emissive == glm::vec3(0.0f) || !usableImage(m.emissiveTexture));
+    return untextured ? glm::vec3(0.5f, 0.5f, 1.0f) : glm::vec3(128.0f / 255.0f, 128.0f / 255.0f, 1.0f);
+}
+
+// gbuffer_frag.glsl: material factors times textures, and the shading normal.
 Surface Renderer::Impl::surface(const Hit& hit, glm::vec3 dir) const {
     const Geometry& g = tracer->geometry(hit.geometry);
     const uint32_t* tri = &g.indices[size_t(hit.primitive) * 3];
@@ -178,7 +191,7 @@ Surface Renderer::Impl::surface(const Hit& hit, glm::vec3 dir) const {
     if (tl > 1e-12f) {
         t /= std::sqrt(tl);
         glm::vec3 bt = glm::cross(n, t) * (tangent.w < 0.0f ? -1.0f : 1.0f);
-        glm::vec3 texel(128.0f / 255.0f, 128.0f / 255.0f, 1.0f);
+        glm::vec3 texel = flatNormalTexel(m);
         const Image* nm = usableImage(m.normalTexture);
         if (nm && !nm->placeholder) texel = glm::vec3(sampleTexture(*nm, uv, false));
         glm::vec3 tn = texel * 2.0f - 1.0f;
