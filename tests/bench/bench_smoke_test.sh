@@ -16,6 +16,7 @@ a = json.load(open(sys.argv[1] + "/a/results.json"))
 b = json.load(open(sys.argv[1] + "/b/results.json"))
 assert a["rows"] and all(not r["reference_cached"] for r in a["rows"]), "first run must render the reference"
 assert all(r["reference_cached"] for r in b["rows"]), "second run must reuse the cached reference"
+assert b["stability"] and all(0.0 <= s["excess_flicker"] < 1.0 and s["frames"] > 1 for s in b["stability"]), b["stability"]
 for r in b["rows"]:
     assert r["pixels"] > 0, f"no reflective pixels in {r}"
     assert r["psnr_db"] is not None and 5.0 < r["psnr_db"] <= 100.0, f"implausible PSNR in {r}"

