@@ -3,7 +3,7 @@
 // 4 no usable Vulkan device.
 #include "speculum/app/output.hpp"
 
-#include "speculum/app/camera_path.hpp"
+#include "speculum/app/camera_flags.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/core.hpp"
@@ -18,8 +18,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <optional>
-#include <sstream>
 
 namespace fs = std::filesystem;
 using namespace speculum;
@@ -35,41 +33,8 @@ struct Options {
     std::vector<std::string> sets;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-glm::vec3 parseVec3(const std::string& s, const char* flag) {
-    auto parts = splitList(s);
-    glm::vec3 v;
-    if (parts.size() != 3) throw argumentError(std::string(flag) + " needs X,Y,Z, got '" + s + "'");
-    for (int i = 0; i < 3; ++i) {
-        try {
-            size_t used = 0;
-            v[i] = std::stof(parts[size_t(i)], &used);
-            if (used != parts[size_t(i)].size()) throw std::invalid_argument("trailing");
-        } catch (const std::exception&) {
-            throw argumentError(std::string(flag) + " needs three numbers X,Y,Z, got '" + s + "'");
-        }
-    }
-    return v;
-}
-
-std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
-    unsigned w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw argumentError("--size needs WxH (e.g. 960x540), got '" + s + "'");
-    if (w == 0 || h == 0) throw argumentError("--size " + s + " is empty: width and height must be at least 1");
-    return {w, h};
-}
-
 std::vector<std::string> parseAovs(const std::string& list) {
-    auto aovs = splitList(list);
+    auto aovs = app::splitList(list);
     std::string known;
     for (const auto* l : {&app::availableAovs(), &app::moduleAovs()})
         for (const std::string& a : *l) known += (known.empty() ? "" : ", ") + a;
@@ -84,46 +49,12 @@ std::vector<std::string> parseAovs(const std::string& list) {
     return aovs;
 }
 
-// One camera per output frame.
-std::vector<app::CameraPose> cameraPoses(const Options& o, const Scene& scene, uint32_t w, uint32_t h,
-                                         std::optional<render::CameraState>& fixed) {
-    if (!o.path.empty()) {
-        if (!o.camera.empty() || !o.eye.empty()) throw argumentError("--path replaces --camera and --eye: give one");
-        return app::loadCameraPath(o.path);
-    }
-    if (!o.camera.empty()) {
-        const Camera* cam = scene.findCamera(o.camera);
-        if (!cam) {
-            std::string names;
-            for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
-            throw argumentError("scene " + o.scene + " has no camera named '" + o.camera + "' (cameras: " +
-                                (names.empty() ? "none" : names) + ")");
-        }
-        fixed = render::makeCamera(*cam, w, h);
-    } else if (!o.eye.empty() || !o.target.empty()) {
-        if (o.eye.empty() || o.target.empty()) throw argumentError("--eye and --target go together");
-        app::CameraPose pose{parseVec3(o.eye, "--eye"), parseVec3(o.target, "--target"), parseVec3(o.up, "--up"), o.fov};
-        if (glm::length(pose.target - pose.eye) < 1e-6f) throw argumentError("--eye and --target are the same point");
-        if (!(o.fov > 1.0f && o.fov < 179.0f)) throw argumentError("--fov must be in 1..179 degrees");
-        return std::vector<app::CameraPose>(size_t(o.frames), pose);
-    } else {
-        fixed = render::frameBounds(scene, w, h);
-    }
-    return std::vector<app::CameraPose>(size_t(o.frames));
-}
-
-render::CameraState stateFor(const app::CameraPose& p, const std::optional<render::CameraState>& fixed, uint32_t w,
-                             uint32_t h) {
-    if (fixed) return *fixed;
-    return render::makeCamera(p.eye, p.target, p.up, glm::radians(p.fovDeg), w, h);
-}
-
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
     if (o.scene.empty()) throw argumentError("--scene FILE is required");
     if (o.frames < 1 || o.frames > 100000) throw argumentError("--frames must be in 1..100000");
     if (o.warmup < 0 || o.warmup > 1000) throw argumentError("--warmup must be in 0..1000");
-    auto [w, h] = parseSize(o.size);
+    auto [w, h] = app::parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
     std::vector<SettingDesc> table = app::engineSettingsTable();
@@ -133,8 +64,8 @@ int run(const Options& o) {
     for (const std::string& kv : o.sets) settings.assign(kv);
 
     Scene scene = loadScene(o.scene);
-    std::optional<render::CameraState> fixed;
-    std::vector<app::CameraPose> poses = cameraPoses(o, scene, w, h, fixed);
+    std::vector<render::CameraState> cameras = app::selectCameras(
+        {o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, size_t(o.frames));
 
     gpu::Context ctx(gpu::ContextOptions{.deviceName = o.device});
     uint32_t maxDim = ctx.properties().limits.maxImageDimension2D;
@@ -151,22 +82,22 @@ int run(const Options& o) {
 
     // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.
     render::FrameInputs frame;
-    frame.camera = frame.previousCamera = stateFor(poses.front(), fixed, w, h);
+    frame.camera = frame.previousCamera = cameras.front();
     for (int i = 0; i < o.warmup; ++i) runner.render(frame, {}, reflections::litHook(module, settings, frame));
 
     app::TimingLog timings;
     bool writeEvery = !o.path.empty();
-    for (size_t i = 0; i < poses.size(); ++i) {
+    for (size_t i = 0; i < cameras.size(); ++i) {
         frame.previousCamera = frame.camera;
-        frame.camera = stateFor(poses[i], fixed, w, h);
+        frame.camera = cameras[i];
         if (i == 0) frame.previousCamera = frame.camera;
-        bool write = writeEvery || i + 1 == poses.size();
+        bool write = writeEvery || i + 1 == cameras.size();
         app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{},
                                                 reflections::litHook(module, settings, frame));
         timings.add(result);
         if (write)
             for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);
-        if (poses.size() > 1) app::progress("capture", i + 1, poses.size());
+        if (cameras.size() > 1) app::progress("capture", i + 1, cameras.size());
     }
     app::writeText(fs::path(o.out) / "graph.dot", runner.graphDot());
     nlohmann::json graph = runner.graphJson();

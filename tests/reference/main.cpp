@@ -4,7 +4,7 @@
 // Exit 0 done, 2 bad arguments, 3 bad scene or settings file.
 #include "reference.hpp"
 
-#include "speculum/app/camera_path.hpp"
+#include "speculum/app/camera_flags.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
@@ -14,8 +14,6 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
-#include <optional>
-#include <sstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -34,76 +32,20 @@ struct Options {
     std::vector<std::string> sets;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-glm::vec3 parseVec3(const std::string& s, const char* flag) {
-    auto parts = splitList(s);
-    if (parts.size() != 3) throw argumentError(std::string(flag) + " needs X,Y,Z, got '" + s + "'");
-    glm::vec3 v;
-    for (int i = 0; i < 3; ++i) {
-        try {
-            size_t used = 0;
-            v[i] = std::stof(parts[size_t(i)], &used);
-            if (used != parts[size_t(i)].size()) throw std::invalid_argument("trailing");
-        } catch (const std::exception&) {
-            throw argumentError(std::string(flag) + " needs three numbers X,Y,Z, got '" + s + "'");
-        }
-    }
-    return v;
-}
-
+// speculum-capture's size rule plus a cap: the reference allocates per-pixel buffers up front.
 std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
-    unsigned w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw argumentError("--size needs WxH (e.g. 960x540), got '" + s + "'");
-    if (w == 0 || h == 0) throw argumentError("--size " + s + " is empty: width and height must be at least 1");
+    auto [w, h] = app::parseSize(s);
     if (w > 16384 || h > 16384) throw argumentError("--size " + s + " is larger than 16384 pixels on a side");
     return {w, h};
 }
 
 std::vector<std::string> parseAovs(const std::string& list) {
-    auto aovs = splitList(list);
+    auto aovs = app::splitList(list);
     if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, reflection, depth, normal, reflective");
     for (const std::string& a : aovs)
         if (std::find(kAovs.begin(), kAovs.end(), a) == kAovs.end())
             throw argumentError("unknown AOV '" + a + "' (known: linear, color, reflection, depth, normal, reflective)");
     return aovs;
-}
-
-// The cameras speculum-capture would use for the same flags (engine/capture/main.cpp).
-std::vector<render::CameraState> cameras(const Options& o, const Scene& scene, uint32_t w, uint32_t h) {
-    if (!o.path.empty()) {
-        if (!o.camera.empty() || !o.eye.empty()) throw argumentError("--path replaces --camera and --eye: give one");
-        std::vector<render::CameraState> out;
-        for (const app::CameraPose& p : app::loadCameraPath(o.path))
-            out.push_back(render::makeCamera(p.eye, p.target, p.up, glm::radians(p.fovDeg), w, h));
-        return out;
-    }
-    if (!o.camera.empty()) {
-        const Camera* cam = scene.findCamera(o.camera);
-        if (!cam) {
-            std::string names;
-            for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
-            throw argumentError("scene " + o.scene + " has no camera named '" + o.camera + "' (cameras: " +
-                                (names.empty() ? "none" : names) + ")");
-        }
-        return {render::makeCamera(*cam, w, h)};
-    }
-    if (!o.eye.empty() || !o.target.empty()) {
-        if (o.eye.empty() || o.target.empty()) throw argumentError("--eye and --target go together");
-        glm::vec3 eye = parseVec3(o.eye, "--eye"), target = parseVec3(o.target, "--target");
-        if (glm::length(target - eye) < 1e-6f) throw argumentError("--eye and --target are the same point");
-        if (!(o.fov > 1.0f && o.fov < 179.0f)) throw argumentError("--fov must be in 1..179 degrees");
-        return {render::makeCamera(eye, target, parseVec3(o.up, "--up"), glm::radians(o.fov), w, h)};
-    }
-    return {render::frameBounds(scene, w, h)};
 }
 
 app::AovImage toAov(const reference::Frame& f, const std::string& name, float exposure) {
@@ -151,7 +93,8 @@ int run(const Options& o) {
 
     auto setupStart = std::chrono::steady_clock::now();
     Scene scene = loadScene(o.scene);
-    std::vector<render::CameraState> views = cameras(o, scene, w, h);
+    std::vector<render::CameraState> views =
+        app::selectCameras({o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, 1);
     reference::Options ropt{o.spp, o.bounces, o.seed, o.threads, ro.exposure, {}};
     size_t frameIndex = 0;
     auto frameStart = std::chrono::steady_clock::now();
