@@ -110,7 +110,10 @@ ivec2 forward(ivec2 current, ivec2 candidate, vec2 dir) {
                  dir.y >= 0.0 ? max(current.y, candidate.y) : min(current.y, candidate.y));
 }
 
-vec4 traceHiZ(ScreenRay ray, ivec2 start) {
+// Returns (t, status, iterations): status 0 hit at t, else the miss code of the hit image.
+// The loop only breaks, never returns: lavapipe runs every branch of a loop body for the whole
+// vector, so work that belongs after the hit (refinement) must sit outside the loop.
+vec3 traceHiZ(ScreenRay ray, ivec2 start) {
     ivec2 screen = ivec2(rf.size.xy);
     int maxLevel = int(rf.modes.w) - 1;
     int preSteps = int(rf.trace.y);
@@ -120,7 +123,9 @@ vec4 traceHiZ(ScreenRay ray, ivec2 start) {
     int level = 0;
     float t = 0.0;
     int maxIterations = int(rf.trace.x);
-    for (int it = 0; it < maxIterations; ++it) {
+    float status = -4.0;
+    int it = 0;
+    for (; it < maxIterations; ++it) {
         ivec2 levelSize = hizLevelSize(level);
         ivec2 cell = min(pix >> level, levelSize - 1);
         ivec2 cmin = cell << level;
@@ -132,35 +137,40 @@ vec4 traceHiZ(ScreenRay ray, ivec2 start) {
         tb = vec2(ray.d.x == 0.0 ? 3.0e38 : tb.x, ray.d.y == 0.0 ? 3.0e38 : tb.y);
         float tExit = min(tb.x, tb.y);
         float tEnd = min(tExit, ray.tMax);
-        if (it > 0) {  // iteration 0 only leaves the start pixel
-            vec2 mm = texelFetch(hiz, cell, level).rg;
-            float lo = occupiedFar(mm.x);
-            float dA = ray.o.z + ray.d.z * t;
-            float dB = ray.o.z + ray.d.z * tEnd;
-            if (max(dA, dB) >= lo && min(dA, dB) <= mm.y) {
-                // Before the entry point the ray is in front of (or behind) everything in the
-                // cell: move there, then look closer (Uludag's intersectDepthPlane).
-                t = entryT(ray, lo, mm.y, t, tEnd);
-                if (level <= stopLevel) return hitAt(ray, t, it + 1);
-                pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), cmin, cmax), ray.d.xy);
-                --level;
-                continue;
+        // Iteration 0 only leaves the start pixel.
+        vec2 mm = texelFetch(hiz, cell, level).rg;
+        float lo = occupiedFar(mm.x);
+        float dA = ray.o.z + ray.d.z * t;
+        float dB = ray.o.z + ray.d.z * tEnd;
+        if (it > 0 && max(dA, dB) >= lo && min(dA, dB) <= mm.y) {
+            // Before the entry point the ray is in front of (or behind) everything in the
+            // cell: move there, then look closer (Uludag's intersectDepthPlane).
+            t = entryT(ray, lo, mm.y, t, tEnd);
+            if (level <= stopLevel) {
+                status = 0.0;
+                break;
             }
+            pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), cmin, cmax), ray.d.xy);
+            --level;
+            continue;
         }
-        if (tExit >= ray.tMax) return vec4(-1.0, -1.0, -2.0, float(it + 1));
+        if (tExit >= ray.tMax) {
+            status = -2.0;
+            break;
+        }
         t = tExit;
         vec2 pos = ray.o.xy + ray.d.xy * t;
         ivec2 next = ivec2(ray.d.x >= 0.0 ? cmax.x + 1 : cmin.x - 1, ray.d.y >= 0.0 ? cmax.y + 1 : cmin.y - 1);
         ivec2 along = forward(pix, clamp(ivec2(floor(pos)), cmin, cmax), ray.d.xy);
         pix.x = tb.x <= tb.y ? next.x : along.x;
         pix.y = tb.y <= tb.x ? next.y : along.y;
-        if (any(lessThan(pix, ivec2(0))) || any(greaterThanEqual(pix, screen)))
-            return vec4(-1.0, -1.0, -3.0, float(it + 1));
-        if (it < preSteps) level = 0;
-        else if (it == preSteps) level = min(int(rf.trace.z), maxLevel);
-        else level = min(level + 1, maxLevel);
+        if (any(lessThan(pix, ivec2(0))) || any(greaterThanEqual(pix, screen))) {
+            status = -3.0;
+            break;
+        }
+        level = it < preSteps ? 0 : it == preSteps ? min(int(rf.trace.z), maxLevel) : min(level + 1, maxLevel);
     }
-    return vec4(-1.0, -1.0, -4.0, float(maxIterations));
+    return vec3(t, status, float(min(it + 1, maxIterations)));
 }
 
 // Linear march: fixed steps along the major axis, a point test per step, then a binary search
@@ -174,31 +184,33 @@ bool behind(ScreenRay ray, float t, out bool inside) {
     return rayDepth <= scene;
 }
 
-vec4 traceLinear(ScreenRay ray) {
+vec3 traceLinear(ScreenRay ray) {
     float major = max(abs(ray.d.x), abs(ray.d.y));
-    if (major <= 0.0) return vec4(-1.0, -1.0, -1.0, 0.0);
+    if (major <= 0.0) return vec3(0.0, -1.0, 0.0);
     float dt = rf.trace2.y / major;
     int maxSteps = int(rf.trace2.z);
-    float prev = 0.0;
-    for (int i = 1; i <= maxSteps; ++i) {
+    float status = -1.0;
+    int i = 1;
+    for (; i <= maxSteps; ++i) {
         float t = float(i) * dt;
-        if (t >= ray.tMax) return vec4(-1.0, -1.0, -1.0, float(i));
+        if (t >= ray.tMax) break;
         bool inside;
         behind(ray, t, inside);
         if (inside) {
-            float a = prev, b = t;
-            int refine = int(rf.trace2.w);
-            for (int k = 0; k < refine; ++k) {
-                float m = 0.5 * (a + b);
-                bool unused;
-                if (behind(ray, m, unused)) b = m;
-                else a = m;
-            }
-            return hitAt(ray, b, i + refine);
+            status = 0.0;
+            break;
         }
-        prev = t;
     }
-    return vec4(-1.0, -1.0, -1.0, float(maxSteps));
+    if (status < 0.0) return vec3(0.0, status, float(min(i, maxSteps)));
+    float a = float(i - 1) * dt, b = float(i) * dt;
+    int refine = int(rf.trace2.w);
+    for (int k = 0; k < refine; ++k) {
+        float m = 0.5 * (a + b);
+        bool unused;
+        if (behind(ray, m, unused)) b = m;
+        else a = m;
+    }
+    return vec3(b, 0.0, float(i + refine));
 }
 
 void main() {
@@ -211,7 +223,10 @@ void main() {
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace) {
         ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, normalize(normalRough.xyz));
         if (ray.tMax > 0.0 && finite3(ray.d))
-            result = rf.modes.x == 0u ? traceHiZ(ray, pixel) : traceLinear(ray);
+        {
+            vec3 r = rf.modes.x == 0u ? traceHiZ(ray, pixel) : traceLinear(ray);
+            result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, r.y, r.z);
+        }
     }
     imageStore(hitOut, pixel, result);
 }
