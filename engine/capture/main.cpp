@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
     cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
     cli.add_option("--settings", o.settingsFile, "JSON settings file");
     cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable)");
-    cli.add_option("--aov", o.aov, "comma list: linear,color,depth,normal,roughness,motion,reflection,method,iterations,hiz (default color)");
+    cli.add_option("--aov", o.aov, "comma list: linear,color,depth,normal,roughness,motion,reflection,method,iterations,hiz,hit (default color)");
     cli.add_option("--out", o.out, "output directory");
     cli.add_option("--device", o.device, "Vulkan device name (substring)");
     try {

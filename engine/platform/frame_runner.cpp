@@ -15,7 +15,7 @@ const std::vector<std::string>& availableAovs() {
 }
 
 const std::vector<std::string>& moduleAovs() {
-    static const std::vector<std::string> k{"reflection", "method", "iterations", "hiz"};
+    static const std::vector<std::string> k{"reflection", "method", "iterations", "hiz", "hit"};
     return k;
 }
 

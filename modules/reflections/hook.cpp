@@ -16,6 +16,8 @@ app::LitHook litHook(Reflections& module, const Settings& settings, const render
         aovs.provided["reflection"] = {out.reflection, 3};
         aovs.provided["method"] = {out.method, 3};
         aovs.provided["iterations"] = {out.hit, 1, 3};
+        // xy hit pixel, z hit depth (< 0: the miss code of shaders/reflections/trace.comp), w iterations.
+        aovs.provided["hit"] = {out.hit, 4};
         if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
         return out.lit;
     };
