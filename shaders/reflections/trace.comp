@@ -175,13 +175,17 @@ vec3 traceHiZ(ScreenRay ray, ivec2 start) {
 
 // Linear march: fixed steps along the major axis, a point test per step, then a binary search
 // between the last point in front and the first point behind a surface.
+// The origin's own pixel never occludes: against its single depth sample, a ray leaving a
+// surface that recedes with it reads as behind it, and the refinement would collapse onto the
+// origin (a self-hit, seen as dashes along creases).
 bool behind(ScreenRay ray, float t, out bool inside) {
     vec2 pos = ray.o.xy + ray.d.xy * t;
     ivec2 p = clamp(ivec2(floor(pos)), ivec2(0), ivec2(rf.size.xy) - 1);
     float scene = texelFetch(hiz, p, 0).g;
     float rayDepth = ray.o.z + ray.d.z * t;
-    inside = rayDepth <= scene && rayDepth >= occupiedFar(scene);
-    return rayDepth <= scene;
+    bool origin = all(equal(p, ivec2(floor(ray.o.xy))));
+    inside = !origin && rayDepth <= scene && rayDepth >= occupiedFar(scene);
+    return !origin && rayDepth <= scene;
 }
 
 vec3 traceLinear(ScreenRay ray) {

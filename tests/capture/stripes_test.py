@@ -12,6 +12,10 @@ isolates what the Hi-Z traversal adds. The ctest uses `exhaustive`: against spec
 the mirror error on this scene is dominated by content the engine cannot have yet (reflections
 of reflections differ after 3 frames, off-screen geometry), which has row structure of its own.
 
+With the environment variable STRIPES_SET="key=value ..." both captures get those settings
+(e.g. reflections.multi_bounce=false, so that both sample the same colour and only the tracer
+differs).
+
 usage: stripes_test.py CAPTURE REFERENCE SCENE OUTDIR [--trace hiz|linear]"""
 import os, struct, subprocess, sys, tempfile
 
@@ -73,19 +77,20 @@ def structure(errors, mask, w, h):
 def main():
     capture, reference, scene, outdir = sys.argv[1:5]
     trace = sys.argv[6] if len(sys.argv) > 6 and sys.argv[5] == "--trace" else "hiz"
+    extra = [a for kv in os.environ.get("STRIPES_SET", "").split() for a in ("--set", kv)]
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
         for w, h in SIZES:
             tag = f"{w}x{h}"
             eng, ref = os.path.join(outdir, "engine." + tag), os.path.join(outdir, "reference." + tag)
             subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3",
-                            "--set", f"reflections.trace={trace}", "--aov", "reflection,method,roughness", "--out", eng],
+                            "--set", f"reflections.trace={trace}", *extra, "--aov", "reflection,method,roughness", "--out", eng],
                            check=True, stdout=subprocess.DEVNULL)
             if reference == "exhaustive":
                 # The exhaustive march: one-pixel steps across the whole screen, deep refinement.
                 subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3",
                                 "--set", "reflections.trace=linear", "--set", "reflections.linear_stride=1",
-                                "--set", "reflections.linear_max_steps=4096", "--set", "reflections.refine_steps=12",
+                                "--set", "reflections.linear_max_steps=4096", "--set", "reflections.refine_steps=12", *extra,
                                 "--aov", "reflection", "--out", ref], check=True, stdout=subprocess.DEVNULL)
             elif not os.path.exists(os.path.join(ref, "reflection.0000.exr")):
                 subprocess.run([reference, "--scene", scene, "--camera", "main", "--size", tag, "--spp", "16",
