@@ -12,7 +12,7 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
          "Screen-space tracer: hierarchical min/max Hi-Z traversal, or the linear march with binary "
          "refinement kept as the baseline."},
-        {"reflections.max_iterations", T::Int, "", 1, 1024, 64, {},
+        {"reflections.max_iterations", T::Int, "", 1, 1024, 96, {},
          "Hi-Z: most traversal iterations per ray (a ray out of iterations is a miss)."},
         {"reflections.linear_pre_steps", T::Int, "", 0, 16, 2, {},
          "Hi-Z: steps at level 0 before the hierarchy, to leave the reflecting surface cheaply."},
