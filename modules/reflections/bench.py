@@ -16,7 +16,7 @@ usage: python3 modules/reflections/bench.py [BUILD_DIR] [FRAMES] [--scenes a,b] 
 import argparse, json, math, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tests", "capture"))
-from stripes_test import load  # uncompressed-EXR reader via oiiotool
+from stripes_test import EXHAUSTIVE, load  # the exhaustive march; uncompressed-EXR reader
 
 LONG_RAY_PX = 64
 TRACERS = {
@@ -24,8 +24,6 @@ TRACERS = {
     "linear": ["reflections.trace=linear"],
     "linear1": ["reflections.trace=linear", "reflections.linear_stride=1"],
 }
-EXHAUSTIVE = ["reflections.trace=linear", "reflections.linear_stride=1", "reflections.linear_max_steps=4096",
-              "reflections.refine_steps=12"]
 
 
 def capture(exe, scene, size, settings, frames, out):

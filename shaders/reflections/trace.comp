@@ -23,6 +23,7 @@ layout(set = 0, binding = 3) uniform sampler2D emissiveTex; // a: flags | materi
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D hitOut;
 
 struct ScreenRay {
+    ivec2 pixel; // the origin's pixel
     vec3 o;      // pixel centre, depth
     vec3 d;      // to the end point: o + d is the far end (t = 1)
     float tMax;  // where it leaves the screen
@@ -38,6 +39,7 @@ ScreenRay screenRay(vec2 px, float depth, vec3 n) {
     // point is the vanishing point to well under a pixel.
     float len = away < -1e-6 ? max((z - 1.5 * rf.camera.w) / -away, 0.0) : 1000.0 * z + 1000.0;
     ScreenRay ray;
+    ray.pixel = ivec2(floor(px));
     ray.o = vec3(px, depth);
     ray.d = projectToScreen(p + r * len) - ray.o;
     float tMax = 1.0;
@@ -113,13 +115,13 @@ ivec2 forward(ivec2 current, ivec2 candidate, vec2 dir) {
 // Returns (t, status, iterations): status 0 hit at t, else the miss code of the hit image.
 // The loop only breaks, never returns: lavapipe runs every branch of a loop body for the whole
 // vector, so work that belongs after the hit (refinement) must sit outside the loop.
-vec3 traceHiZ(ScreenRay ray, ivec2 start) {
+vec3 traceHiZ(ScreenRay ray) {
     ivec2 screen = ivec2(rf.size.xy);
     int maxLevel = int(rf.modes.w) - 1;
     int preSteps = int(rf.trace.y);
     int stopLevel = min(int(rf.trace.w), maxLevel);
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
-    ivec2 pix = start;
+    ivec2 pix = ray.pixel;
     int level = 0;
     float t = 0.0;
     int maxIterations = int(rf.trace.x);
@@ -183,7 +185,7 @@ bool behind(ScreenRay ray, float t, out bool inside) {
     ivec2 p = clamp(ivec2(floor(pos)), ivec2(0), ivec2(rf.size.xy) - 1);
     float scene = texelFetch(hiz, p, 0).g;
     float rayDepth = ray.o.z + ray.d.z * t;
-    bool origin = all(equal(p, ivec2(floor(ray.o.xy))));
+    bool origin = all(equal(p, ray.pixel));
     inside = !origin && rayDepth <= scene && rayDepth >= occupiedFar(scene);
     return !origin && rayDepth <= scene;
 }
@@ -226,9 +228,8 @@ void main() {
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace) {
         ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, normalize(normalRough.xyz));
-        if (ray.tMax > 0.0 && finite3(ray.d))
-        {
-            vec3 r = rf.modes.x == 0u ? traceHiZ(ray, pixel) : traceLinear(ray);
+        if (ray.tMax > 0.0 && finite3(ray.d)) {
+            vec3 r = rf.modes.x == 0u ? traceHiZ(ray) : traceLinear(ray);
             result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, r.y, r.z);
         }
     }

@@ -22,6 +22,10 @@ import os, struct, subprocess, sys, tempfile
 SIZES = [(320, 180), (317, 181), (641, 359), (400, 300), (333, 187)]
 MIN_PIXELS = 16
 RATIO = 2.0
+# The exhaustive march (also modules/reflections/bench.py's accuracy reference): the linear
+# tracer at one-pixel steps across the whole screen with deep refinement.
+EXHAUSTIVE = ["reflections.trace=linear", "reflections.linear_stride=1", "reflections.linear_max_steps=4096",
+              "reflections.refine_steps=12"]
 
 
 def read_exr(path):
@@ -87,11 +91,10 @@ def main():
                             "--set", f"reflections.trace={trace}", *extra, "--aov", "reflection,method,roughness", "--out", eng],
                            check=True, stdout=subprocess.DEVNULL)
             if reference == "exhaustive":
-                # The exhaustive march: one-pixel steps across the whole screen, deep refinement.
+                exhaustive = [a for kv in EXHAUSTIVE for a in ("--set", kv)]
                 subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3",
-                                "--set", "reflections.trace=linear", "--set", "reflections.linear_stride=1",
-                                "--set", "reflections.linear_max_steps=4096", "--set", "reflections.refine_steps=12", *extra,
-                                "--aov", "reflection", "--out", ref], check=True, stdout=subprocess.DEVNULL)
+                                *exhaustive, *extra, "--aov", "reflection", "--out", ref], check=True,
+                               stdout=subprocess.DEVNULL)
             elif not os.path.exists(os.path.join(ref, "reflection.0000.exr")):
                 subprocess.run([reference, "--scene", scene, "--camera", "main", "--size", tag, "--spp", "16",
                                 "--aov", "reflection", "--out", ref], check=True, stdout=subprocess.DEVNULL,
