@@ -16,7 +16,7 @@ std::vector<SettingDesc> settingsTable() {
          "Hi-Z: most traversal iterations per ray (a ray out of iterations is a miss)."},
         {"reflections.linear_pre_steps", T::Int, "", 0, 16, 2, {},
          "Hi-Z: steps at level 0 before the hierarchy, to leave the reflecting surface cheaply."},
-        {"reflections.hiz_start_level", T::Int, "", 0, 12, 2, {},
+        {"reflections.hiz_start_level", T::Int, "", 0, 12, 1, {},
          "Hi-Z: level the hierarchical traversal starts at after the linear steps."},
         {"reflections.hiz_stop_level", T::Int, "", 0, 6, 0, {},
          "Hi-Z: level at which an overlap counts as a hit (0 = per pixel; higher is coarser and faster)."},

@@ -60,6 +60,24 @@ ivec2 hizLevelSize(int level) {
     return max(ivec2(rf.size.xy) >> level, ivec2(1));
 }
 
+// Fades shared by the resolve (weights) and the trace (which skips what they zero).
+// cosAway: cosine between the reflected ray and the view direction (< 0 toward the camera).
+float cameraFade(float cosAway) {
+    float span = rf.fade.y - rf.fade.z;
+    return span > 0.0 ? clamp((cosAway - rf.fade.z) / span, 0.0, 1.0) : (cosAway >= rf.fade.y ? 1.0 : 0.0);
+}
+
+// dist: world distance from the reflecting point to the hit.
+float distanceFade(float dist) {
+    float span = rf.fade2.x - rf.fade.w;
+    return span > 0.0 ? 1.0 - clamp((dist - rf.fade.w) / span, 0.0, 1.0) : (dist <= rf.fade.w ? 1.0 : 0.0);
+}
+
+// The world distance from which distanceFade is 0.
+float distanceFadeEnd() {
+    return rf.fade2.x > rf.fade.w ? rf.fade2.x : rf.fade.w;
+}
+
 bool finite3(vec3 v) {
     return !any(isnan(v)) && !any(isinf(v));
 }

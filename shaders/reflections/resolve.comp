@@ -82,16 +82,6 @@ float edgeFade(vec2 hitPx) {
     return rf.fade.x > 0.0 ? clamp(edge / rf.fade.x, 0.0, 1.0) : 1.0;
 }
 
-float cameraFade(float cosAway) {
-    float span = rf.fade.y - rf.fade.z;
-    return span > 0.0 ? clamp((cosAway - rf.fade.z) / span, 0.0, 1.0) : (cosAway >= rf.fade.y ? 1.0 : 0.0);
-}
-
-float distanceFade(float dist) {
-    float span = rf.fade2.x - rf.fade.w;
-    return span > 0.0 ? 1.0 - clamp((dist - rf.fade.w) / span, 0.0, 1.0) : (dist <= rf.fade.w ? 1.0 : 0.0);
-}
-
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;

@@ -26,7 +26,8 @@ struct ScreenRay {
     ivec2 pixel; // the origin's pixel
     vec3 o;      // pixel centre, depth
     vec3 d;      // to the end point: o + d is the far end (t = 1)
-    float tMax;  // where it leaves the screen
+    float tMax;  // where it leaves the screen or reaches distanceFadeEnd(), whichever is first
+    bool faded;  // tMax is the distance fade's, not the screen edge
 };
 
 ScreenRay screenRay(vec2 px, float depth, vec3 n) {
@@ -47,7 +48,16 @@ ScreenRay screenRay(vec2 px, float depth, vec3 n) {
     if (ray.d.x < 0.0) tMax = min(tMax, -ray.o.x / ray.d.x);
     if (ray.d.y > 0.0) tMax = min(tMax, (rf.size.y - ray.o.y) / ray.d.y);
     if (ray.d.y < 0.0) tMax = min(tMax, -ray.o.y / ray.d.y);
-    ray.tMax = max(tMax, 0.0);
+    // Past distanceFadeEnd() a hit weighs nothing: the ray ends there. The screen point of that
+    // world point lies on the ray's line; its t is the projection onto d.
+    float fadeEnd = distanceFadeEnd();
+    float tFade = 2.0;
+    if (fadeEnd < len) {
+        vec2 q = projectToScreen(p + r * fadeEnd).xy - ray.o.xy;
+        tFade = dot(q, ray.d.xy) / max(dot(ray.d.xy, ray.d.xy), 1e-30);
+    }
+    ray.faded = tFade < tMax;
+    ray.tMax = max(min(tMax, tFade), 0.0);
     return ray;
 }
 
@@ -76,27 +86,67 @@ float surfaceDepth(vec2 pos, out bool planar) {
 
 // Sub-pixel hit: a pixel's single depth sample makes a ray that meets a surface at a grazing
 // screen-space angle stop up to several pixels early. Where the surface is smooth around the
-// hit, bisect the sign change of (ray depth - interpolated surface depth) within 1.5 pixels.
-const int kSubPixelSteps = 6;
+// hit, find the sign change of f = (ray depth - interpolated surface depth) near t by false
+// position (Illinois): on a plane f is affine along the ray (depth is affine in screen space
+// and bilinear interpolation of affine samples is exact), so one step is exact there and a
+// second only corrects curved surfaces. (Bisection needed 6 steps for 1/20 pixel.)
+const int kSubPixelSteps = 2;
+// How far past the bracket a grazing hit's root may be sought, in pixels. Rays that meet a
+// floor at a shallow screen-space angle fire the point test 2-4 pixels early.
+const float kGrazingReach = 8.0;
+
+float rayMinusSurface(ScreenRay ray, float t, out bool planar) {
+    return ray.o.z + ray.d.z * t - surfaceDepth(ray.o.xy + ray.d.xy * t, planar);
+}
+
 float refineHit(ScreenRay ray, float t, inout int iterations) {
     float major = max(abs(ray.d.x), abs(ray.d.y));
     float dt = 1.5 / major;
     float a = max(t - dt, 0.0), b = min(t + dt, ray.tMax);
     bool sa, sb;
-    float fa = ray.o.z + ray.d.z * a - surfaceDepth(ray.o.xy + ray.d.xy * a, sa);
-    float fb = ray.o.z + ray.d.z * b - surfaceDepth(ray.o.xy + ray.d.xy * b, sb);
+    float fa = rayMinusSurface(ray, a, sa);
+    float fb = rayMinusSurface(ray, b, sb);
+    if (sa && sb && fa > fb && fb > 0.0) {
+        // Still in front at b but closing in: extrapolate f (affine on a plane) to its root,
+        // a quarter pixel past it so that a plane's root is bracketed.
+        float c = b + fb * (b - a) / (fa - fb) + 0.25 / major;
+        c = min(c, min(b + kGrazingReach / major, ray.tMax));
+        a = b;
+        fa = fb;
+        b = c;
+        fb = rayMinusSurface(ray, b, sb);
+        iterations += 1;
+    }
     // Only rays arriving from in front of a smooth surface (f > 0 in front, f <= 0 behind).
     if (!(sa && sb && fa > 0.0 && fb <= 0.0)) return t;
-    for (int k = 0; k < kSubPixelSteps; ++k) {
-        float m = 0.5 * (a + b);
+    // A residual this small puts the root within about 1/50 pixel (f's slope is at least
+    // (fa - fb) / 3 pixels on a plane): planar hits stop after one step.
+    float tolerance = (fa - fb) * (0.02 / 3.0);
+    float side = 0.0;  // the side kept last: -1 a, +1 b
+    int k = 0;
+    for (; k < kSubPixelSteps; ++k) {
+        float m = (a * fb - b * fa) / (fb - fa);
         bool sm;
-        float fm = ray.o.z + ray.d.z * m - surfaceDepth(ray.o.xy + ray.d.xy * m, sm);
+        float fm = rayMinusSurface(ray, m, sm);
         if (!sm) return t;
-        if (fm > 0.0) a = m;
-        else b = m;
+        if (abs(fm) <= tolerance) {
+            a = b = m;
+            break;
+        }
+        if (fm > 0.0) {
+            a = m;
+            fa = fm;
+            if (side < 0.0) fb *= 0.5;  // Illinois: halve the stale end's weight
+            side = -1.0;
+        } else {
+            b = m;
+            fb = fm;
+            if (side > 0.0) fa *= 0.5;
+            side = 1.0;
+        }
     }
-    iterations += kSubPixelSteps;
-    return b;
+    iterations += min(k + 1, kSubPixelSteps);
+    return a == b ? a : (a * fb - b * fa) / (fb - fa);
 }
 
 vec4 hitAt(ScreenRay ray, float t, int iterations) {
@@ -112,39 +162,71 @@ ivec2 forward(ivec2 current, ivec2 candidate, vec2 dir) {
                  dir.y >= 0.0 ? max(current.y, candidate.y) : min(current.y, candidate.y));
 }
 
-// Returns (t, status, iterations): status 0 hit at t, else the miss code of the hit image.
-// The loop only breaks, never returns: lavapipe runs every branch of a loop body for the whole
-// vector, so work that belongs after the hit (refinement) must sit outside the loop.
-vec3 traceHiZ(ScreenRay ray) {
+// A cell of the Hi-Z level under a pixel, in level-0 pixels, and where the ray leaves it.
+struct Cell {
+    ivec2 index;  // in its level
+    ivec2 lo, hi; // first and last pixel covered (the last row and column reach the screen edge)
+    vec2 tb;      // t at the exit boundary per axis
+    float tExit;
+};
+
+Cell cellAt(ScreenRay ray, vec2 invD, ivec2 pix, int level) {
     ivec2 screen = ivec2(rf.size.xy);
+    ivec2 levelSize = hizLevelSize(level);
+    Cell c;
+    c.index = min(pix >> level, levelSize - 1);
+    c.lo = c.index << level;
+    // Explicit selects: lavapipe mis-evaluates integer mix() with a bvec2 here.
+    c.hi = ivec2(c.index.x == levelSize.x - 1 ? screen.x : (c.index.x + 1) << level,
+                 c.index.y == levelSize.y - 1 ? screen.y : (c.index.y + 1) << level) - 1;
+    vec2 bound = vec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y);
+    c.tb = (bound - ray.o.xy) * invD;
+    c.tb = vec2(ray.d.x == 0.0 ? 3.0e38 : c.tb.x, ray.d.y == 0.0 ? 3.0e38 : c.tb.y);
+    c.tExit = min(c.tb.x, c.tb.y);
+    return c;
+}
+
+// The pixel just past the cell's exit, crossed per axis in integers (the stripe fix): the axis
+// whose boundary comes first steps into the next cell, the other follows the ray.
+ivec2 pixelAfter(ScreenRay ray, Cell c, ivec2 pix) {
+    ivec2 next = ivec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x - 1, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y - 1);
+    vec2 pos = ray.o.xy + ray.d.xy * c.tExit;
+    ivec2 along = forward(pix, clamp(ivec2(floor(pos)), c.lo, c.hi), ray.d.xy);
+    return ivec2(c.tb.x <= c.tb.y ? next.x : along.x, c.tb.y <= c.tb.x ? next.y : along.y);
+}
+
+bool offScreen(ivec2 pix) {
+    return any(lessThan(pix, ivec2(0))) || any(greaterThanEqual(pix, ivec2(rf.size.xy)));
+}
+
+// Returns (t, status, iterations): status 0 hit at t, else the miss code of the hit image:
+// -1 not traced, -2 reached tMax (main: -5 when that is the distance fade's end), -3 crossed
+// off screen, -4 out of iterations.
+// An iteration is one cell test (one Hi-Z fetch); leaving the origin's pixel is set-up, as in
+// Uludag's listing. The loop only breaks, never returns: lavapipe runs every branch of a loop
+// body for the whole vector, so work that belongs after the hit (refinement) sits outside it.
+vec3 traceHiZ(ScreenRay ray) {
     int maxLevel = int(rf.modes.w) - 1;
     int preSteps = int(rf.trace.y);
     int stopLevel = min(int(rf.trace.w), maxLevel);
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
-    ivec2 pix = ray.pixel;
-    int level = 0;
-    float t = 0.0;
+    Cell origin = cellAt(ray, invD, ray.pixel, 0);
+    if (origin.tExit >= ray.tMax) return vec3(0.0, -2.0, 0.0);
+    ivec2 pix = pixelAfter(ray, origin, ray.pixel);
+    if (offScreen(pix)) return vec3(0.0, -3.0, 0.0);
+    float t = origin.tExit;
+    int level = preSteps > 0 ? 0 : min(int(rf.trace.z), maxLevel);
     int maxIterations = int(rf.trace.x);
     float status = -4.0;
     int it = 0;
     for (; it < maxIterations; ++it) {
-        ivec2 levelSize = hizLevelSize(level);
-        ivec2 cell = min(pix >> level, levelSize - 1);
-        ivec2 cmin = cell << level;
-        // Explicit selects: lavapipe mis-evaluates integer mix() with a bvec2 here.
-        ivec2 cmax = ivec2(cell.x == levelSize.x - 1 ? screen.x : (cell.x + 1) << level,
-                           cell.y == levelSize.y - 1 ? screen.y : (cell.y + 1) << level) - 1;
-        vec2 bound = vec2(ray.d.x >= 0.0 ? cmax.x + 1 : cmin.x, ray.d.y >= 0.0 ? cmax.y + 1 : cmin.y);
-        vec2 tb = (bound - ray.o.xy) * invD;
-        tb = vec2(ray.d.x == 0.0 ? 3.0e38 : tb.x, ray.d.y == 0.0 ? 3.0e38 : tb.y);
-        float tExit = min(tb.x, tb.y);
-        float tEnd = min(tExit, ray.tMax);
-        // Iteration 0 only leaves the start pixel.
-        vec2 mm = texelFetch(hiz, cell, level).rg;
+        Cell c = cellAt(ray, invD, pix, level);
+        float tEnd = min(c.tExit, ray.tMax);
+        vec2 mm = texelFetch(hiz, c.index, level).rg;
         float lo = occupiedFar(mm.x);
         float dA = ray.o.z + ray.d.z * t;
         float dB = ray.o.z + ray.d.z * tEnd;
-        if (it > 0 && max(dA, dB) >= lo && min(dA, dB) <= mm.y) {
+        if (max(dA, dB) >= lo && min(dA, dB) <= mm.y) {
             // Before the entry point the ray is in front of (or behind) everything in the
             // cell: move there, then look closer (Uludag's intersectDepthPlane).
             t = entryT(ray, lo, mm.y, t, tEnd);
@@ -152,25 +234,30 @@ vec3 traceHiZ(ScreenRay ray) {
                 status = 0.0;
                 break;
             }
-            pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), cmin, cmax), ray.d.xy);
+            pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), c.lo, c.hi), ray.d.xy);
             --level;
             continue;
         }
-        if (tExit >= ray.tMax) {
+        if (c.tExit >= ray.tMax) {
             status = -2.0;
             break;
         }
-        t = tExit;
-        vec2 pos = ray.o.xy + ray.d.xy * t;
-        ivec2 next = ivec2(ray.d.x >= 0.0 ? cmax.x + 1 : cmin.x - 1, ray.d.y >= 0.0 ? cmax.y + 1 : cmin.y - 1);
-        ivec2 along = forward(pix, clamp(ivec2(floor(pos)), cmin, cmax), ray.d.xy);
-        pix.x = tb.x <= tb.y ? next.x : along.x;
-        pix.y = tb.y <= tb.x ? next.y : along.y;
-        if (any(lessThan(pix, ivec2(0))) || any(greaterThanEqual(pix, screen))) {
+        t = c.tExit;
+        pix = pixelAfter(ray, c, pix);
+        if (offScreen(pix)) {
             status = -3.0;
             break;
         }
-        level = it < preSteps ? 0 : it == preSteps ? min(int(rf.trace.z), maxLevel) : min(level + 1, maxLevel);
+        // Up only into a parent the ray crosses whole along its major axis (it enters at the
+        // parent's first child that way): a parent entered half-way spans children beside the
+        // rest of the path whose closest depth reads as an overlap (a floor's nearer rows under
+        // a grazing ray), and the one child left costs a single test at this level.
+        bool xMajor = abs(ray.d.x) >= abs(ray.d.y);
+        int child = (xMajor ? pix.x : pix.y) >> level;
+        bool firstChild = (child & 1) == ((xMajor ? ray.d.x : ray.d.y) >= 0.0 ? 0 : 1);
+        level = it + 1 < preSteps ? 0
+              : it + 1 == preSteps ? min(int(rf.trace.z), maxLevel)
+              : !firstChild ? level : min(level + 1, maxLevel);
     }
     return vec3(t, status, float(min(it + 1, maxIterations)));
 }
@@ -226,11 +313,16 @@ void main() {
     float depth = texelFetch(hiz, pixel, 0).g;
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
-    if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace) {
-        ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, normalize(normalRough.xyz));
+    vec3 n = normalize(normalRough.xyz);
+    vec3 v = normalize(worldAt(vec2(pixel) + 0.5, depth) - rf.camera.xyz);
+    // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).
+    bool visible = cameraFade(dot(reflect(v, n), v)) > 0.0;
+    if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible) {
+        ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, n);
         if (ray.tMax > 0.0 && finite3(ray.d)) {
             vec3 r = rf.modes.x == 0u ? traceHiZ(ray) : traceLinear(ray);
-            result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, r.y, r.z);
+            float miss = r.y == -2.0 && ray.faded ? -5.0 : r.y;
+            result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, miss, r.z);
         }
     }
     imageStore(hitOut, pixel, result);
