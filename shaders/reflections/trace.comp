@@ -181,7 +181,6 @@ Cell cellAt(ScreenRay ray, vec2 invD, ivec2 pix, int level) {
                  c.index.y == levelSize.y - 1 ? screen.y : (c.index.y + 1) << level) - 1;
     vec2 bound = vec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y);
     c.tb = (bound - ray.o.xy) * invD;
-    c.tb = vec2(ray.d.x == 0.0 ? 3.0e38 : c.tb.x, ray.d.y == 0.0 ? 3.0e38 : c.tb.y);
     c.tExit = min(c.tb.x, c.tb.y);
     return c;
 }
@@ -209,6 +208,7 @@ vec3 traceHiZ(ScreenRay ray) {
     int maxLevel = int(rf.modes.w) - 1;
     int preSteps = int(rf.trace.y);
     int stopLevel = min(int(rf.trace.w), maxLevel);
+    // Finite for axes the ray does not move along: their exit t is then far past tMax.
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
     Cell origin = cellAt(ray, invD, ray.pixel, 0);
     if (origin.tExit >= ray.tMax) return vec3(0.0, -2.0, 0.0);
@@ -218,6 +218,12 @@ vec3 traceHiZ(ScreenRay ray) {
     int level = preSteps > 0 ? 0 : min(int(rf.trace.z), maxLevel);
     int maxIterations = int(rf.trace.x);
     float status = -4.0;
+    // Up only into a parent the ray crosses whole along its major axis (it enters at the
+    // parent's first child that way): a parent entered half-way spans children beside the rest
+    // of the path whose closest depth reads as an overlap (a floor's nearer rows under a grazing
+    // ray), and the one child left costs a single test at this level.
+    bool xMajor = abs(ray.d.x) >= abs(ray.d.y);
+    int firstChildBit = (xMajor ? ray.d.x : ray.d.y) >= 0.0 ? 0 : 1;
     int it = 0;
     for (; it < maxIterations; ++it) {
         Cell c = cellAt(ray, invD, pix, level);
@@ -226,38 +232,32 @@ vec3 traceHiZ(ScreenRay ray) {
         float lo = occupiedFar(mm.x);
         float dA = ray.o.z + ray.d.z * t;
         float dB = ray.o.z + ray.d.z * tEnd;
-        if (max(dA, dB) >= lo && min(dA, dB) <= mm.y) {
-            // Before the entry point the ray is in front of (or behind) everything in the
-            // cell: move there, then look closer (Uludag's intersectDepthPlane).
-            t = entryT(ray, lo, mm.y, t, tEnd);
-            if (level <= stopLevel) {
-                status = 0.0;
-                break;
-            }
-            pix = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), c.lo, c.hi), ray.d.xy);
-            --level;
-            continue;
+        // One straight path for both outcomes (lavapipe would run both sides of an if):
+        // an overlap moves to the entry point, before which the ray is in front of (or behind)
+        // everything in the cell (Uludag's intersectDepthPlane), and looks closer; an empty
+        // cell moves to its exit and crosses into the next cell on the axis that exits first.
+        bool overlap = max(dA, dB) >= lo && min(dA, dB) <= mm.y;
+        t = overlap ? entryT(ray, lo, mm.y, t, tEnd) : c.tExit;
+        if (overlap && level <= stopLevel) {
+            status = 0.0;
+            break;
         }
-        if (c.tExit >= ray.tMax) {
+        if (!overlap && c.tExit >= ray.tMax) {
             status = -2.0;
             break;
         }
-        t = c.tExit;
-        pix = pixelAfter(ray, c, pix);
+        ivec2 at = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), c.lo, c.hi), ray.d.xy);
+        ivec2 next = ivec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x - 1, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y - 1);
+        pix = overlap ? at : ivec2(c.tb.x <= c.tb.y ? next.x : at.x, c.tb.y <= c.tb.x ? next.y : at.y);
         if (offScreen(pix)) {
             status = -3.0;
             break;
         }
-        // Up only into a parent the ray crosses whole along its major axis (it enters at the
-        // parent's first child that way): a parent entered half-way spans children beside the
-        // rest of the path whose closest depth reads as an overlap (a floor's nearer rows under
-        // a grazing ray), and the one child left costs a single test at this level.
-        bool xMajor = abs(ray.d.x) >= abs(ray.d.y);
-        int child = (xMajor ? pix.x : pix.y) >> level;
-        bool firstChild = (child & 1) == ((xMajor ? ray.d.x : ray.d.y) >= 0.0 ? 0 : 1);
-        level = it + 1 < preSteps ? 0
+        bool firstChild = (((xMajor ? pix.x : pix.y) >> level) & 1) == firstChildBit;
+        level = overlap ? level - 1
+              : it + 1 < preSteps ? 0
               : it + 1 == preSteps ? min(int(rf.trace.z), maxLevel)
-              : !firstChild ? level : min(level + 1, maxLevel);
+              : firstChild ? min(level + 1, maxLevel) : level;
     }
     return vec3(t, status, float(min(it + 1, maxIterations)));
 }

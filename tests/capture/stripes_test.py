@@ -1,29 +1,39 @@
 #!/usr/bin/env python3
 """Resolution-dependent stripes (issue 3): the gallery at 320x180, 317x181, 641x359, 400x300 and
-333x187 shows no row or column structure in the reflection error against the reference
-renderer on the mirror (roughness 0) pixels screen space covers (after warm-up frames, so that reflections of
-reflections have arrived through the history): the worst row's and column's mean error on reflective pixels is at most twice the
-median row's and column's. Rows and columns with fewer than MIN_PIXELS reflective pixels are
-left out (their mean is noise).
+333x187 must show no row or column structure in the reflection error that the tracer adds.
 
-REFERENCE is speculum-reference, or `exhaustive`: the engine's own linear march at one-pixel
-steps over the whole screen, which has no hierarchy and no cell crossing, so the comparison
-isolates what the Hi-Z traversal adds. The ctest uses `exhaustive`: against speculum-reference
-the mirror error on this scene is dominated by content the engine cannot have yet (reflections
-of reflections differ after 3 frames, off-screen geometry), which has row structure of its own.
+The error is the reflection AOV against the reference renderer (speculum-reference, 16 spp),
+after warm-up frames (reflections of reflections arrive through the history), on the mirror
+(roughness 0) pixels that the exhaustive march covers by screen space and where the exhaustive march (below) is within
+CONTENT_ERROR of the reference. The last condition leaves out what no screen-space tracer can
+have (off-screen geometry, other bounces): that error has row and column structure of its own.
+The structure of an error image is the issue's ratio: the worst row's (column's) mean error
+over the median row's (column's), over rows and columns with at least MIN_PIXELS such pixels.
 
-With the environment variable STRIPES_SET="key=value ..." both captures get those settings
-(e.g. reflections.multi_bounce=false, so that both sample the same colour and only the tracer
-differs).
+Measured on this scene, the ratio of the exhaustive march itself is 2-3 for rows and 3-12 for
+columns: reflected silhouettes (pillars, the sphere's and torus's outlines) are edges where a
+pixel-centre trace and a 16-spp reference differ, and they line up with columns. The issue's
+bound of 2 therefore holds for no tracer here, the ideal one included, so the test bounds the
+tracer by the exhaustive march instead: a tracer passes a size when its row and column ratios
+are at most max(RATIO, SLACK x the exhaustive march's). The exhaustive march has no hierarchy
+and no cell crossing, so what Hi-Z adds on top of it is what its traversal does: the stripes of
+the seed (rays that miss or self-hit along rows or columns of cell boundaries at some sizes)
+raise one row's or column's mean far past its neighbours'. The test fails on such a mutation
+(every eighth row of rays reported as a miss): see modules/reflections/README.md.
 
-usage: stripes_test.py CAPTURE REFERENCE SCENE OUTDIR [--trace hiz|linear]"""
+The exhaustive march (also modules/reflections/bench.py's accuracy reference) is the linear
+tracer at one-pixel steps across the whole screen with deep refinement.
+
+With the environment variable STRIPES_SET="key=value ..." every capture gets those settings.
+
+usage: stripes_test.py CAPTURE REFERENCE SCENE OUTDIR [--trace hiz,linear]"""
 import os, struct, subprocess, sys, tempfile
 
 SIZES = [(320, 180), (317, 181), (641, 359), (400, 300), (333, 187)]
-MIN_PIXELS = 16
+MIN_PIXELS = 32
 RATIO = 2.0
-# The exhaustive march (also modules/reflections/bench.py's accuracy reference): the linear
-# tracer at one-pixel steps across the whole screen with deep refinement.
+SLACK = 1.25
+CONTENT_ERROR = 0.1
 EXHAUSTIVE = ["reflections.trace=linear", "reflections.linear_stride=1", "reflections.linear_max_steps=4096",
               "reflections.refine_steps=12"]
 
@@ -78,44 +88,56 @@ def structure(errors, mask, w, h):
     return out
 
 
+def capture(exe, scene, tag, settings, aovs, out):
+    args = [exe, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3", "--aov", aovs, "--out", out]
+    for kv in settings + os.environ.get("STRIPES_SET", "").split():
+        args += ["--set", kv]
+    subprocess.run(args, check=True, stdout=subprocess.DEVNULL)
+
+
+def clamped_error(a, b, x, y):
+    clamp = lambda v: min(max(v, 0.0), 1.0)
+    return sum(abs(clamp(a[c][y][x]) - clamp(b[c][y][x])) for c in "RGB") / 3
+
+
 def main():
-    capture, reference, scene, outdir = sys.argv[1:5]
-    trace = sys.argv[6] if len(sys.argv) > 6 and sys.argv[5] == "--trace" else "hiz"
-    extra = [a for kv in os.environ.get("STRIPES_SET", "").split() for a in ("--set", kv)]
+    capture_exe, reference, scene, outdir = sys.argv[1:5]
+    traces = sys.argv[6].split(",") if len(sys.argv) > 6 and sys.argv[5] == "--trace" else ["hiz"]
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
         for w, h in SIZES:
             tag = f"{w}x{h}"
-            eng, ref = os.path.join(outdir, "engine." + tag), os.path.join(outdir, "reference." + tag)
-            subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3",
-                            "--set", f"reflections.trace={trace}", *extra, "--aov", "reflection,method,roughness", "--out", eng],
-                           check=True, stdout=subprocess.DEVNULL)
-            if reference == "exhaustive":
-                exhaustive = [a for kv in EXHAUSTIVE for a in ("--set", kv)]
-                subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", tag, "--warmup", "3",
-                                *exhaustive, *extra, "--aov", "reflection", "--out", ref], check=True,
-                               stdout=subprocess.DEVNULL)
-            elif not os.path.exists(os.path.join(ref, "reflection.0000.exr")):
-                subprocess.run([reference, "--scene", scene, "--camera", "main", "--size", tag, "--spp", "16",
-                                "--aov", "reflection", "--out", ref], check=True, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
-            _, _, e = load(os.path.join(eng, "reflection.0000.exr"), tmp)
-            _, _, m = load(os.path.join(eng, "method.0000.exr"), tmp)
-            _, _, r = load(os.path.join(ref, "reflection.0000.exr"), tmp)
-            _, _, g = load(os.path.join(eng, "roughness.0000.exr"), tmp)
+            ref, exh = os.path.join(outdir, "reference." + tag), os.path.join(outdir, "exhaustive." + tag)
+            print(f"[stripes] {tag}: reference, exhaustive march, {', '.join(traces)}", file=sys.stderr, flush=True)
+            subprocess.run([reference, "--scene", scene, "--camera", "main", "--size", tag, "--spp", "16",
+                            "--aov", "reflection", "--out", ref], check=True, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL)
+            capture(capture_exe, scene, tag, EXHAUSTIVE, "reflection,method,roughness", exh)
+            r = load(os.path.join(ref, "reflection.0000.exr"), tmp)[2]
+            x = load(os.path.join(exh, "reflection.0000.exr"), tmp)[2]
+            m = load(os.path.join(exh, "method.0000.exr"), tmp)[2]
+            g = load(os.path.join(exh, "roughness.0000.exr"), tmp)[2]
             rough = g[list(g.keys())[0]]
-            clamp = lambda v: min(max(v, 0.0), 1.0)
-            errors = [[sum(abs(clamp(e[c][y][x]) - clamp(r[c][y][x])) for c in "RGB") / 3 for x in range(w)]
-                      for y in range(h)]
-            # Pixels screen space covers: stripes come from the tracer; what falls back to the
-            # environment (off-screen content) is a different, resolution-independent error.
-            # Mirrors only (roughness 0): there the reference is exact, not a noisy glossy estimate.
-            mask = [[m["R"][y][x] > 0.5 and rough[y][x] < 0.02 for x in range(w)] for y in range(h)]
-            (rows, rmax, rmed, rn), (cols, cmax, cmed, cn) = structure(errors, mask, w, h)
-            print(f"{tag}: rows worst/median {rows:.2f} ({rmax:.4f}/{rmed:.4f}, {rn} rows), "
-                  f"columns {cols:.2f} ({cmax:.4f}/{cmed:.4f}, {cn} columns)")
-            if rows > RATIO or cols > RATIO:
-                failures.append(tag)
+            exh_error = [[clamped_error(x, r, i, j) for i in range(w)] for j in range(h)]
+            # What screen space can have: the exhaustive march's coverage, so that a tracer's
+            # misses there count as errors instead of leaving the mask.
+            mask = [[m["R"][j][i] > 0.5 and rough[j][i] < 0.02 and exh_error[j][i] < CONTENT_ERROR
+                     for i in range(w)] for j in range(h)]
+            (xrows, _, _, _), (xcols, _, _, _) = structure(exh_error, mask, w, h)
+            row_bound, col_bound = max(RATIO, SLACK * xrows), max(RATIO, SLACK * xcols)
+            for trace in traces:
+                eng = os.path.join(outdir, f"{trace}.{tag}")
+                capture(capture_exe, scene, tag, [f"reflections.trace={trace}"], "reflection", eng)
+                e = load(os.path.join(eng, "reflection.0000.exr"), tmp)[2]
+                error = [[clamped_error(e, r, i, j) for i in range(w)] for j in range(h)]
+                (rows, rmax, rmed, rn), (cols, cmax, cmed, cn) = structure(error, mask, w, h)
+                ok = rows <= row_bound and cols <= col_bound
+                print(f"{tag} {trace}: rows worst/median {rows:.2f} ({rmax:.4f}/{rmed:.4f}, {rn} rows; bound "
+                      f"{row_bound:.2f}), columns {cols:.2f} ({cmax:.4f}/{cmed:.4f}, {cn} columns; bound "
+                      f"{col_bound:.2f}); exhaustive march rows {xrows:.2f}, columns {xcols:.2f}"
+                      f"{'' if ok else '  FAIL'}", flush=True)
+                if not ok:
+                    failures.append(f"{tag} ({trace})")
     if failures:
         print("row or column structure in the reflection error at " + ", ".join(failures), file=sys.stderr)
         return 1
