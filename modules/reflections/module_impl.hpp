@@ -54,7 +54,8 @@ struct Reflections::Impl {
     // Passes, in frame order (passes.cpp).
     TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels);
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
-    TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, uint32_t levels);
+    TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
+                                  uint32_t levels);
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
     TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);

@@ -82,7 +82,8 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
     return pyramid;
 }
 
-TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, uint32_t levels) {
+TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
+                                                uint32_t levels) {
     struct ReprojectData {
         TextureHandle depth, motion, lit, historyColor, historyDepth, dst;
     };
@@ -116,8 +117,10 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             dispatch(pc, reproject, w, pc.extent(d.dst, 0));
         });
     TextureHandle pyramid = r.dst;
+    // Each level also carries the visibility pyramid's level in alpha (level 0: 1, as reproject
+    // writes): the cone trace then gets colour and visibility from one trilinear lookup.
     struct DownData {
-        TextureHandle src, dst;
+        TextureHandle src, visibility, dst;
         uint32_t level;
     };
     for (uint32_t level = 1; level < levels; ++level) {
@@ -126,12 +129,14 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             [&](PassBuilder& b, DownData& data) {
                 data.level = level;
                 data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
+                data.visibility = b.read(visibility, TextureUsage::Sampled, mipLevel(level));
                 data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
             },
             [this](const DownData& data, PassContext& pc) {
                 gpu::DescriptorWriter w = writer();
                 w.sampled(1, pc.view(data.src, mipLevel(data.level - 1)), nearest)
-                    .storage(2, pc.view(data.dst, mipLevel(data.level)));
+                    .storage(2, pc.view(data.dst, mipLevel(data.level)))
+                    .sampled(3, pc.view(data.visibility, mipLevel(data.level)), nearest);
                 dispatch(pc, colorDown, w, pc.extent(data.dst, data.level));
             });
         pyramid = d.dst;
@@ -166,7 +171,7 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, visibility, reflection, method;
+        TextureHandle hiz, normal, emissive, hit, color, reflection, method;
     };
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
@@ -176,7 +181,6 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.color = b.read(out.colorPyramid, TextureUsage::Sampled);
-            data.visibility = b.read(out.visibility, TextureUsage::Sampled);
             data.reflection = b.write(b.create("reflections.reflection", TextureDesc{.format = kColorFormat}),
                                       TextureUsage::StorageWrite);
             data.method = b.write(b.create("reflections.method", TextureDesc{.format = kColorFormat}),
@@ -191,7 +195,6 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
                 .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
                 .sampled(5, pc.view(data.hit), nearest)
                 .sampled(6, pc.view(data.color), trilinear)
-                .sampled(7, pc.view(data.visibility), trilinear)
                 .sampled(8, env.specular().view(), env.sampler())
                 .storage(9, pc.view(data.reflection))
                 .storage(10, pc.view(data.method));

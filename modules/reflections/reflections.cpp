@@ -56,8 +56,9 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
           c, "reflections/reproject.comp",
           bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kSampled}, {5, kSampled}, {6, kStorage}}), 0,
           "reflections.reproject")),
-      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", bindings({{1, kSampled}, {2, kStorage}}),
-                                           0, "reflections.color_pyramid")),
+      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp",
+                                           bindings({{1, kSampled}, {2, kStorage}, {3, kSampled}}), 0,
+                                           "reflections.color_pyramid")),
       trace(gpu::createComputePipeline(
           c, "reflections/trace.comp",
           bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}), 0,
@@ -69,7 +70,6 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
                                                    {4, kBuffer},
                                                    {5, kSampled},
                                                    {6, kSampled},
-                                                   {7, kSampled},
                                                    {8, kSampled},
                                                    {9, kStorage},
                                                    {10, kStorage}}),
@@ -183,7 +183,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     ReflectionOutputs out;
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
-    out.colorPyramid = m.addColorPyramid(graph, in, levels);
+    out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     out.hit = m.addTrace(graph, in, out.hiz);
     m.addResolve(graph, in, out);
     out.lit = m.addComposite(graph, in, out);

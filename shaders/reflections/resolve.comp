@@ -15,8 +15,7 @@ layout(set = 0, binding = 1) uniform sampler2D hiz;          // texelFetch
 layout(set = 0, binding = 2) uniform sampler2D normalTex;
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
 layout(set = 0, binding = 5) uniform sampler2D hitTex;       // texelFetch
-layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear
-layout(set = 0, binding = 7) uniform sampler2D visibility;   // trilinear
+layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear; alpha: pre-integrated visibility
 layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
@@ -56,8 +55,9 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
         vec2 pos = start + u * (adjacent - r);
         float mip = clamp(log2(max(r, 1.0)), 0.0, maxMip);
         vec2 uv = pos * rf.size.zw;
-        vec3 c = textureLod(colorPyramid, uv, mip).rgb;
-        float vis = textureLod(visibility, uv, mip).r;
+        vec4 cv = textureLod(colorPyramid, uv, mip);
+        vec3 c = cv.rgb;
+        float vis = cv.a;
         // Depth is affine along the screen-space ray, so the sample's ray depth interpolates.
         float zRay = linearDepth(mix(startDepth, hit.z, (adjacent - r) / len));
         float radius = r * zRay * rf.cone.w;
