@@ -53,15 +53,38 @@ PipelineLayout::PipelineLayout(const Context& ctx, const std::vector<Binding>& b
     layout_ = Unique<VkPipelineLayout>(ctx.device(), layout, vkDestroyPipelineLayout);
 }
 
+namespace {
+
+// Specialization constants constant_id 0, 1, ... as consecutive uint32 values.
+struct Specialization {
+    std::vector<VkSpecializationMapEntry> entries;
+    VkSpecializationInfo info{};
+
+    explicit Specialization(const std::vector<uint32_t>& values) {
+        for (uint32_t i = 0; i < values.size(); ++i)
+            entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+        info.mapEntryCount = uint32_t(entries.size());
+        info.pMapEntries = entries.data();
+        info.dataSize = values.size() * sizeof(uint32_t);
+        info.pData = values.data();
+    }
+    const VkSpecializationInfo* get() const { return entries.empty() ? nullptr : &info; }
+};
+
+}  // namespace
+
 Pipeline createComputePipeline(const Context& ctx, const std::string& shader, const std::vector<Binding>& bindings,
-                               uint32_t pushConstantBytes, const std::string& name) {
+                               uint32_t pushConstantBytes, const std::string& name,
+                               const std::vector<uint32_t>& constants) {
     PipelineLayout layout(ctx, bindings, pushConstantBytes, VK_SHADER_STAGE_COMPUTE_BIT);
     Unique<VkShaderModule> module = loadShader(ctx, shader);
+    Specialization spec(constants);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    info.stage.pSpecializationInfo = spec.get();
     info.layout = layout.get();
     VkPipeline p;
     check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p),
@@ -78,21 +101,14 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = vs;
     stages[0].pName = "main";
-    std::vector<VkSpecializationMapEntry> specEntries;
-    VkSpecializationInfo spec{};
-    for (uint32_t i = 0; i < d.fragmentConstants.size(); ++i)
-        specEntries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
-    spec.mapEntryCount = uint32_t(specEntries.size());
-    spec.pMapEntries = specEntries.data();
-    spec.dataSize = d.fragmentConstants.size() * sizeof(uint32_t);
-    spec.pData = d.fragmentConstants.data();
+    Specialization spec(d.fragmentConstants);
     if (!d.fragmentShader.empty()) {
         fs = loadShader(ctx, d.fragmentShader);
         VkPipelineShaderStageCreateInfo f{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         f.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
         f.module = fs;
         f.pName = "main";
-        if (!specEntries.empty()) f.pSpecializationInfo = &spec;
+        f.pSpecializationInfo = spec.get();
         stages.push_back(f);
     }
 

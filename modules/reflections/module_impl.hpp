@@ -4,6 +4,9 @@
 
 #include "speculum/reflections/reflections.hpp"
 
+#include <array>
+#include <optional>
+
 #include <glm/glm.hpp>
 
 namespace speculum::reflections {
@@ -36,7 +39,12 @@ struct History {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, trace, resolve, composite, hizView;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, trace, resolve, hizView;
+    // One composite pipeline per debug view (a specialization constant), made on first use:
+    // lavapipe runs both sides of a uniform branch, and the debug views' fetches cost the
+    // plain composite about 40%.
+    std::array<std::optional<gpu::Pipeline>, kDebugViewCount> composites;
+    const gpu::Pipeline& composite(DebugView view);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
     gpu::Buffer uniforms;
@@ -58,7 +66,8 @@ struct Reflections::Impl {
                                   uint32_t levels);
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
-    TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
+    TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+                               DebugView view);
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 

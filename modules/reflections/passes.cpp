@@ -205,7 +205,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
 }
 
 TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                              const ReflectionOutputs& out) {
+                                              const ReflectionOutputs& out, DebugView view) {
     struct Data {
         TextureHandle lit, albedo, normal, emissive, reflection, hiz, hit, method, dst;
     };
@@ -223,7 +223,7 @@ TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInp
             data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
                                TextureUsage::StorageWrite);
         },
-        [this](const Data& data, PassContext& pc) {
+        [this, view](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.lit), nearest)
@@ -237,7 +237,7 @@ TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInp
                 .sampled(9, pc.view(data.hit), nearest)
                 .sampled(10, pc.view(data.method), nearest)
                 .storage(11, pc.view(data.dst));
-            dispatch(pc, composite, w, pc.extent(data.dst));
+            dispatch(pc, composite(view), w, pc.extent(data.dst));
         });
     return d.dst;
 }

@@ -74,19 +74,6 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
                                                    {9, kStorage},
                                                    {10, kStorage}}),
                                          0, "reflections.resolve")),
-      composite(gpu::createComputePipeline(c, "reflections/composite.comp",
-                                           bindings({{1, kSampled},
-                                                     {2, kSampled},
-                                                     {3, kSampled},
-                                                     {4, kBuffer},
-                                                     {5, kSampled},
-                                                     {6, kSampled},
-                                                     {7, kSampled},
-                                                     {8, kSampled},
-                                                     {9, kSampled},
-                                                     {10, kSampled},
-                                                     {11, kStorage}}),
-                                           0, "reflections.composite")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings({{1, kSampled}, {2, kStorage}}), 0,
                                          "reflections.hiz_view")),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
@@ -172,6 +159,25 @@ void Reflections::resetHistory() {
     impl_->history.valid = false;
 }
 
+const gpu::Pipeline& Reflections::Impl::composite(DebugView view) {
+    std::optional<gpu::Pipeline>& p = composites.at(size_t(view));
+    if (!p)
+        p = gpu::createComputePipeline(ctx, "reflections/composite.comp",
+                                       bindings({{1, kSampled},
+                                                 {2, kSampled},
+                                                 {3, kSampled},
+                                                 {4, kBuffer},
+                                                 {5, kSampled},
+                                                 {6, kSampled},
+                                                 {7, kSampled},
+                                                 {8, kSampled},
+                                                 {9, kSampled},
+                                                 {10, kSampled},
+                                                 {11, kStorage}}),
+                                       0, "reflections.composite", {uint32_t(view)});
+    return *p;
+}
+
 ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& in,
                                          const ReflectionSettings& s, bool hizView) {
     Impl& m = *impl_;
@@ -186,7 +192,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     out.hit = m.addTrace(graph, in, out.hiz);
     m.addResolve(graph, in, out);
-    out.lit = m.addComposite(graph, in, out);
+    out.lit = m.addComposite(graph, in, out, s.debugView);
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, out.lit, in.gbuffer.depth);
     m.history.valid = true;

@@ -20,6 +20,10 @@ layout(set = 0, binding = 9) uniform sampler2D hitTex;      // texelFetch
 layout(set = 0, binding = 10) uniform sampler2D methodTex;
 layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D dst;
 
+// reflections.debug_view (DebugView): a specialization constant, so that the plain composite
+// carries none of the debug views' fetches (lavapipe runs both sides of a uniform branch).
+layout(constant_id = 0) const uint kDebugView = 0u;
+
 vec3 heat(float x) {
     x = clamp(x, 0.0, 1.0);
     return clamp(vec3(1.5 - abs(4.0 * x - 3.0), 1.5 - abs(4.0 * x - 2.0), 1.5 - abs(4.0 * x - 1.0)), 0.0, 1.0);
@@ -63,8 +67,7 @@ void main() {
         vec3 f0 = specularF0(albedo.rgb, albedo.a);
         color = lit + texelFetch(reflectionTex, pixel, 0).rgb * (f0 * dfg.x + dfg.y);
     }
-    uint view = rf.modes2.x;
     // Debug colours are divided by the exposure so that they reach the screen near their value.
-    if (view != 0u) color = debugView(view, pixel, reflective, lit) * rf.fade2.z;
+    if (kDebugView != 0u) color = debugView(kDebugView, pixel, reflective, lit) * rf.fade2.z;
     imageStore(dst, pixel, vec4(color, 1.0));
 }

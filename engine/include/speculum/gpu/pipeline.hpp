@@ -52,7 +52,8 @@ private:
 };
 
 Pipeline createComputePipeline(const Context& ctx, const std::string& shader, const std::vector<Binding>& bindings,
-                               uint32_t pushConstantBytes, const std::string& name);
+                               uint32_t pushConstantBytes, const std::string& name,
+                               const std::vector<uint32_t>& constants = {});
 
 struct GraphicsPipelineDesc {
     std::string vertexShader;

@@ -25,6 +25,7 @@ enum class TraceMode : uint32_t { HiZ = 0, Linear = 1 };
 // `visibility` (the cone's accumulated visibility, as in the book).
 enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
 enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection };
+inline constexpr size_t kDebugViewCount = 7;
 
 struct ReflectionSettings {
     bool enabled = true;
