@@ -39,7 +39,10 @@ struct History {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, trace, resolve, hizView;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, resolve, hizView;
+    // One trace pipeline per tracer (a specialization constant, for the same reason).
+    std::array<std::optional<gpu::Pipeline>, 2> traces;
+    const gpu::Pipeline& trace(TraceMode mode);
     // One composite pipeline per debug view (a specialization constant), made on first use:
     // lavapipe runs both sides of a uniform branch, and the debug views' fetches cost the
     // plain composite about 40%.
@@ -64,7 +67,7 @@ struct Reflections::Impl {
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels);
-    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
+    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TraceMode mode);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
     TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
                                DebugView view);

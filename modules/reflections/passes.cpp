@@ -144,7 +144,8 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     return pyramid;
 }
 
-TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid) {
+TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
+                                          TraceMode mode) {
     struct Data {
         TextureHandle hiz, normal, emissive, hit;
     };
@@ -157,14 +158,14 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
             data.hit = b.write(b.create("reflections.hit", TextureDesc{.format = kHitFormat}),
                                TextureUsage::StorageWrite);
         },
-        [this](const Data& data, PassContext& pc) {
+        [this, mode](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)
                 .sampled(2, pc.view(data.normal), nearest)
                 .sampled(3, pc.view(data.emissive), nearest)
                 .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
                 .storage(5, pc.view(data.hit));
-            dispatch(pc, trace, w, pc.extent(data.hit));
+            dispatch(pc, trace(mode), w, pc.extent(data.hit));
         });
     return d.hit;
 }

@@ -59,10 +59,6 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp",
                                            bindings({{1, kSampled}, {2, kStorage}, {3, kSampled}}), 0,
                                            "reflections.color_pyramid")),
-      trace(gpu::createComputePipeline(
-          c, "reflections/trace.comp",
-          bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}), 0,
-          "reflections.trace")),
       resolve(gpu::createComputePipeline(c, "reflections/resolve.comp",
                                          bindings({{1, kSampled},
                                                    {2, kSampled},
@@ -159,6 +155,15 @@ void Reflections::resetHistory() {
     impl_->history.valid = false;
 }
 
+const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode) {
+    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode));
+    if (!p)
+        p = gpu::createComputePipeline(ctx, "reflections/trace.comp",
+                                       bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}),
+                                       0, "reflections.trace", {uint32_t(mode)});
+    return *p;
+}
+
 const gpu::Pipeline& Reflections::Impl::composite(DebugView view) {
     std::optional<gpu::Pipeline>& p = composites.at(size_t(view));
     if (!p)
@@ -190,7 +195,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
-    out.hit = m.addTrace(graph, in, out.hiz);
+    out.hit = m.addTrace(graph, in, out.hiz, s.trace);
     m.addResolve(graph, in, out);
     out.lit = m.addComposite(graph, in, out, s.debugView);
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);

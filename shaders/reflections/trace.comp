@@ -21,6 +21,9 @@ layout(set = 0, binding = 1) uniform sampler2D hiz;         // rg32f, all levels
 layout(set = 0, binding = 2) uniform sampler2D normalTex;   // xyz normal, w roughness
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex; // a: flags | material index
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D hitOut;
+// reflections.trace (TraceMode: 0 hiz, 1 linear) as a specialization constant: lavapipe would
+// otherwise run the other tracer's loops once per pixel too.
+layout(constant_id = 0) const uint kTraceMode = 0u;
 
 struct ScreenRay {
     ivec2 pixel; // the origin's pixel
@@ -320,7 +323,7 @@ void main() {
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible) {
         ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, n);
         if (ray.tMax > 0.0 && finite3(ray.d)) {
-            vec3 r = rf.modes.x == 0u ? traceHiZ(ray) : traceLinear(ray);
+            vec3 r = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
             float miss = r.y == -2.0 && ray.faded ? -5.0 : r.y;
             result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, miss, r.z);
         }
