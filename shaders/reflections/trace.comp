@@ -80,8 +80,11 @@ float surfaceDepth(vec2 pos, out bool planar) {
     vec2 p = pos - 0.5;
     ivec2 i = clamp(ivec2(floor(p)), ivec2(0), ivec2(rf.size.xy) - 2);
     vec2 f = clamp(p - vec2(i), 0.0, 1.0);
-    float a = texelFetch(hiz, i, 0).g, b = texelFetch(hiz, i + ivec2(1, 0), 0).g;
-    float c = texelFetch(hiz, i + ivec2(0, 1), 0).g, d = texelFetch(hiz, i + ivec2(1, 1), 0).g;
+    // One gather of the 2x2 block (its corner is the shared texel corner i + 1): x (i, j+1),
+    // y (i+1, j+1), z (i+1, j), w (i, j). Cheaper on lavapipe than four texelFetch: the
+    // trace at 960x540 with one iteration (its fixed cost) went from 36 to 32 ms.
+    vec4 q = textureGather(hiz, (vec2(i) + 1.0) * rf.size.zw, 1);
+    float a = q.w, b = q.z, c = q.x, d = q.y;
     float lo = min(min(a, b), min(c, d)), hi = max(max(a, b), max(c, d));
     planar = lo > 0.0 && hi <= lo * 1.05;
     return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
