@@ -33,10 +33,8 @@ struct ScreenRay {
     bool faded;  // tMax is the distance fade's, not the screen edge
 };
 
-ScreenRay screenRay(vec2 px, float depth, vec3 n) {
-    vec3 p = worldAt(px, depth);
-    vec3 v = normalize(p - rf.camera.xyz);
-    vec3 r = reflect(v, n);
+// The mirror ray r from world point p, seen at pixel centre px with depth `depth`.
+ScreenRay screenRay(vec2 px, float depth, vec3 p, vec3 r) {
     float z = linearDepth(depth);
     float away = -(mat3(rf.view) * r).z;
     // Rays toward the camera end just before the near plane; others far enough that their end
@@ -191,13 +189,16 @@ Cell cellAt(ScreenRay ray, vec2 invD, ivec2 pix, int level) {
     return c;
 }
 
-// The pixel just past the cell's exit, crossed per axis in integers (the stripe fix): the axis
-// whose boundary comes first steps into the next cell, the other follows the ray.
-ivec2 pixelAfter(ScreenRay ray, Cell c, ivec2 pix) {
+// The pixel under the ray at t, kept in the cell and never stepping back.
+ivec2 pixelAt(ScreenRay ray, Cell c, ivec2 pix, float t) {
+    return forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), c.lo, c.hi), ray.d.xy);
+}
+
+// Past the cell's exit, crossed per axis in integers (the stripe fix): the axis whose boundary
+// comes first steps into the next cell, the other keeps `atExit` (pixelAt the exit).
+ivec2 crossExit(ScreenRay ray, Cell c, ivec2 atExit) {
     ivec2 next = ivec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x - 1, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y - 1);
-    vec2 pos = ray.o.xy + ray.d.xy * c.tExit;
-    ivec2 along = forward(pix, clamp(ivec2(floor(pos)), c.lo, c.hi), ray.d.xy);
-    return ivec2(c.tb.x <= c.tb.y ? next.x : along.x, c.tb.y <= c.tb.x ? next.y : along.y);
+    return ivec2(c.tb.x <= c.tb.y ? next.x : atExit.x, c.tb.y <= c.tb.x ? next.y : atExit.y);
 }
 
 bool offScreen(ivec2 pix) {
@@ -218,7 +219,7 @@ vec3 traceHiZ(ScreenRay ray) {
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
     Cell origin = cellAt(ray, invD, ray.pixel, 0);
     if (origin.tExit >= ray.tMax) return vec3(0.0, -2.0, 0.0);
-    ivec2 pix = pixelAfter(ray, origin, ray.pixel);
+    ivec2 pix = crossExit(ray, origin, pixelAt(ray, origin, ray.pixel, origin.tExit));
     if (offScreen(pix)) return vec3(0.0, -3.0, 0.0);
     float t = origin.tExit;
     int level = preSteps > 0 ? 0 : min(int(rf.trace.z), maxLevel);
@@ -252,9 +253,8 @@ vec3 traceHiZ(ScreenRay ray) {
             status = -2.0;
             break;
         }
-        ivec2 at = forward(pix, clamp(ivec2(floor(ray.o.xy + ray.d.xy * t)), c.lo, c.hi), ray.d.xy);
-        ivec2 next = ivec2(ray.d.x >= 0.0 ? c.hi.x + 1 : c.lo.x - 1, ray.d.y >= 0.0 ? c.hi.y + 1 : c.lo.y - 1);
-        pix = overlap ? at : ivec2(c.tb.x <= c.tb.y ? next.x : at.x, c.tb.y <= c.tb.x ? next.y : at.y);
+        ivec2 at = pixelAt(ray, c, pix, t);
+        pix = overlap ? at : crossExit(ray, c, at);
         if (offScreen(pix)) {
             status = -3.0;
             break;
@@ -319,16 +319,18 @@ void main() {
     float depth = texelFetch(hiz, pixel, 0).g;
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
-    vec3 n = normalize(normalRough.xyz);
-    vec3 v = normalize(worldAt(vec2(pixel) + 0.5, depth) - rf.camera.xyz);
+    vec2 px = vec2(pixel) + 0.5;
+    vec3 p = worldAt(px, depth);
+    vec3 v = normalize(p - rf.camera.xyz);
+    vec3 r = reflect(v, normalize(normalRough.xyz));
     // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).
-    bool visible = cameraFade(dot(reflect(v, n), v)) > 0.0;
+    bool visible = cameraFade(dot(r, v)) > 0.0;
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible) {
-        ScreenRay ray = screenRay(vec2(pixel) + 0.5, depth, n);
+        ScreenRay ray = screenRay(px, depth, p, r);
         if (ray.tMax > 0.0 && finite3(ray.d)) {
-            vec3 r = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
-            float miss = r.y == -2.0 && ray.faded ? -5.0 : r.y;
-            result = r.y == 0.0 ? hitAt(ray, r.x, int(r.z)) : vec4(-1.0, -1.0, miss, r.z);
+            vec3 traced = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
+            float miss = traced.y == -2.0 && ray.faded ? -5.0 : traced.y;
+            result = traced.y == 0.0 ? hitAt(ray, traced.x, int(traced.z)) : vec4(-1.0, -1.0, miss, traced.z);
         }
     }
     imageStore(hitOut, pixel, result);
