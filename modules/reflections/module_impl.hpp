@@ -69,8 +69,12 @@ struct Reflections::Impl {
                                   uint32_t levels);
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TraceMode mode);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
-    TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
-                               DebugView view);
+    struct Composited {
+        TextureHandle shown;    // the lit image, or the debug view
+        TextureHandle history;  // the lit image
+    };
+    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+                            DebugView view);
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 

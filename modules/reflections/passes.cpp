@@ -205,10 +205,10 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
     out.method = d.method;
 }
 
-TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                              const ReflectionOutputs& out, DebugView view) {
+Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
+                                                              const ReflectionOutputs& out, DebugView view) {
     struct Data {
-        TextureHandle lit, albedo, normal, emissive, reflection, hiz, hit, method, dst;
+        TextureHandle lit, albedo, normal, emissive, reflection, hiz, hit, method, dst, plain;
     };
     const auto& d = g.addPass<Data>(
         "reflections.composite", PassType::Compute,
@@ -223,6 +223,11 @@ TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInp
             data.method = b.read(out.method, TextureUsage::Sampled);
             data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
                                TextureUsage::StorageWrite);
+            // A debug view replaces the image; the history still gets the real one, or the
+            // next frames would reflect the debug colours.
+            if (view != DebugView::None)
+                data.plain = b.write(b.create("reflections.lit_plain", TextureDesc{.format = render::kLinearFormat}),
+                                     TextureUsage::StorageWrite);
         },
         [this, view](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
@@ -237,10 +242,11 @@ TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInp
                 .sampled(8, pc.view(data.hiz), nearest)
                 .sampled(9, pc.view(data.hit), nearest)
                 .sampled(10, pc.view(data.method), nearest)
-                .storage(11, pc.view(data.dst));
+                .storage(11, pc.view(data.dst))
+                .storage(12, pc.view(view != DebugView::None ? data.plain : data.dst));  // unused without a view
             dispatch(pc, composite(view), w, pc.extent(data.dst));
         });
-    return d.dst;
+    return {d.dst, view != DebugView::None ? d.plain : d.dst};
 }
 
 void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth) {

@@ -178,7 +178,8 @@ const gpu::Pipeline& Reflections::Impl::composite(DebugView view) {
                                                  {8, kSampled},
                                                  {9, kSampled},
                                                  {10, kSampled},
-                                                 {11, kStorage}}),
+                                                 {11, kStorage},
+                                                 {12, kStorage}}),
                                        0, "reflections.composite", {uint32_t(view)});
     return *p;
 }
@@ -197,9 +198,10 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     out.hit = m.addTrace(graph, in, out.hiz, s.trace);
     m.addResolve(graph, in, out);
-    out.lit = m.addComposite(graph, in, out, s.debugView);
+    Impl::Composited composited = m.addComposite(graph, in, out, s.debugView);
+    out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
-    m.addHistory(graph, out.lit, in.gbuffer.depth);
+    m.addHistory(graph, composited.history, in.gbuffer.depth);
     m.history.valid = true;
     return out;
 }

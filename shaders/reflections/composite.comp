@@ -19,6 +19,8 @@ layout(set = 0, binding = 8) uniform sampler2D hiz;         // texelFetch
 layout(set = 0, binding = 9) uniform sampler2D hitTex;      // texelFetch
 layout(set = 0, binding = 10) uniform sampler2D methodTex;
 layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D dst;
+// With a debug view: the composite without it, which feeds the history.
+layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D plainOut;
 
 // reflections.debug_view (DebugView): a specialization constant, so that the plain composite
 // carries none of the debug views' fetches (lavapipe runs both sides of a uniform branch).
@@ -68,6 +70,9 @@ void main() {
         color = lit + texelFetch(reflectionTex, pixel, 0).rgb * (f0 * dfg.x + dfg.y);
     }
     // Debug colours are divided by the exposure so that they reach the screen near their value.
-    if (kDebugView != 0u) color = debugView(kDebugView, pixel, reflective, lit) * rf.fade2.z;
+    if (kDebugView != 0u) {
+        imageStore(plainOut, pixel, vec4(color, 1.0));
+        color = debugView(kDebugView, pixel, reflective, lit) * rf.fade2.z;
+    }
     imageStore(dst, pixel, vec4(color, 1.0));
 }

@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""The reflections module's debug views (issue 3: iterations heatmap, hit mask, coverage,
+method, Hi-Z levels, the reflection alone), reached from the command line with
+`--set reflections.debug_view=NAME`: each view's image must be what the view promises,
+computed here from the module's raw AOVs of the same frame (hit, method, reflection, hiz).
+
+The composite divides debug colours by the exposure so that they reach the screen near their
+value; the `linear` AOV is compared, times the exposure (the scene's extras.exposure times
+render.exposure, left at 1; the default scene's extras, as the renderer reads them). Reflective pixels (method's screen + environment weights sum to
+1) show the view; the others show their lit colour's luminance times 0.15 (grey), checked
+against the `linear` AOV of a capture without a debug view. The Hi-Z view covers every pixel,
+and the reflection view too (black where nothing reflects).
+
+usage: debug_views_test.py CAPTURE SCENE OUTDIR"""
+import json, os, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from stripes_test import load  # noqa: E402
+
+SIZE = (320, 180)
+MAX_ITERATIONS = 96  # reflections.max_iterations' default (modules/reflections/settings.cpp)
+HIZ_MIP = 3          # reflections.debug_hiz_mip's default
+# Half-float AOVs: relative error about 1e-3, and colours reach 2.9 after the exposure.
+TOLERANCE = 0.01
+# Hi-Z view: its span test (|farthest - closest| > 0.05 in log2 distance / 10) can flip on
+# cells right at the threshold, since the hiz AOV holds the distances as half floats.
+HIZ_FLIP_SHARE = 0.005
+
+
+def heat(x):
+    x = min(max(x, 0.0), 1.0)
+    return tuple(min(max(1.5 - abs(4.0 * x - k), 0.0), 1.0) for k in (3.0, 2.0, 1.0))
+
+
+def capture(exe, scene, out, view, aovs):
+    w, h = SIZE
+    subprocess.run([exe, "--scene", scene, "--camera", "main", "--size", f"{w}x{h}", "--warmup", "2",
+                    "--set", f"reflections.debug_view={view}", "--aov", aovs, "--out", out], check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def expected_views(x, y, hit, method, reflection):
+    """Each reflective view's colour at pixel (x, y) (composite.comp's debugView)."""
+    hit_z, iterations = hit["B"][y][x], hit["A"][y][x]
+    return {
+        "iterations": heat(iterations / MAX_ITERATIONS),
+        "hit_mask": (0.1, 0.9, 0.1) if hit_z > 0.0 else (0.9, 0.1, 0.1),
+        "coverage": (method["R"][y][x],) * 3,
+        "method": tuple(method[c][y][x] for c in "RGB"),
+        "reflection": tuple(reflection[c][y][x] for c in "RGB"),
+    }
+
+
+def expected_hiz(x, y, hiz):
+    import math
+    closest = (math.log2(max(hiz["R"][y][x], 1e-6)) + 2.0) / 10.0
+    farthest = (math.log2(max(hiz["G"][y][x], 1e-6)) + 2.0) / 10.0
+    level = int(hiz["B"][y][x])
+    checker = 1.0 if ((x >> level) + (y >> level)) % 2 == 0 else 0.85
+    span = 0.6 if abs(farthest - closest) > 0.05 else 1.0
+    return tuple(c * checker * span for c in heat(1.0 - closest))
+
+
+def close(got, want):
+    return all(abs(g - v) <= TOLERANCE * max(1.0, abs(v)) for g, v in zip(got, want))
+
+
+def main():
+    exe, scene, outdir = sys.argv[1:4]
+    doc = json.load(open(scene))
+    extras = doc["scenes"][doc.get("scene", 0)].get("extras", {})
+    exposure = float(extras.get("exposure", 1.0))
+    w, h = SIZE
+    failures = []
+    with tempfile.TemporaryDirectory() as tmp:
+        def aov(run, name):
+            return load(os.path.join(outdir, run, f"{name}.0000.exr"), tmp)[2]
+
+        capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection")
+        plain, hit, method, reflection = (aov("none", n) for n in ("linear", "hit", "method", "reflection"))
+        reflective = [[method["R"][y][x] + method["B"][y][x] > 0.5 for x in range(w)] for y in range(h)]
+        count = sum(map(sum, reflective))
+        if count < w * h // 10:
+            failures.append(f"only {count} reflective pixels: the scene no longer tests the views")
+        for view in ("iterations", "hit_mask", "coverage", "method", "reflection", "hiz"):
+            print(f"[debug views] {view}", file=sys.stderr, flush=True)
+            capture(exe, scene, os.path.join(outdir, view), view, "linear,hiz" if view == "hiz" else "linear")
+            lin = aov(view, "linear")
+            hiz = aov(view, "hiz") if view == "hiz" else None
+            wrong, first = 0, None
+            for y in range(h):
+                for x in range(w):
+                    got = tuple(lin[c][y][x] * exposure for c in "RGB")
+                    if view == "hiz":
+                        want = expected_hiz(x, y, hiz)
+                    elif reflective[y][x] or view == "reflection":
+                        want = expected_views(x, y, hit, method, reflection)[view]
+                    else:
+                        lum = 0.2126 * plain["R"][y][x] + 0.7152 * plain["G"][y][x] + 0.0722 * plain["B"][y][x]
+                        want = (lum * 0.15,) * 3
+                    if not close(got, want):
+                        wrong += 1
+                        first = first or (x, y, got, want)
+            allowed = int(HIZ_FLIP_SHARE * w * h) if view == "hiz" else 0
+            print(f"{view}: {wrong} of {w * h} pixels differ from the view's definition (allowed {allowed})"
+                  + (f"; first at {first[:2]}: {tuple(round(v, 4) for v in first[2])} instead of "
+                     f"{tuple(round(v, 4) for v in first[3])}" if first else ""))
+            if wrong > allowed:
+                failures.append(view)
+    if failures:
+        print("debug views wrong: " + ", ".join(failures), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
