@@ -40,13 +40,12 @@ struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
     gpu::Pipeline hiz, visibility, reproject, colorDown, resolve, hizView;
-    // One trace pipeline per tracer (a specialization constant, for the same reason).
+    // One pipeline per tracer and per debug view (specialization constants), made on first
+    // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
+    // trace about 5% and the debug views' fetches cost the plain composite about 40%.
     std::array<std::optional<gpu::Pipeline>, 2> traces;
-    const gpu::Pipeline& trace(TraceMode mode);
-    // One composite pipeline per debug view (a specialization constant), made on first use:
-    // lavapipe runs both sides of a uniform branch, and the debug views' fetches cost the
-    // plain composite about 40%.
     std::array<std::optional<gpu::Pipeline>, kDebugViewCount> composites;
+    const gpu::Pipeline& trace(TraceMode mode);
     const gpu::Pipeline& composite(DebugView view);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;

@@ -20,6 +20,8 @@ layout(set = 0, binding = 0, std140) uniform ReflectionFrame {
     vec4 cone;      // cone samples, max roughness, environment max mip, pixel angle (rad / px)
     vec4 fade;      // edge fade, camera fade start, camera fade end, distance fade start
     vec4 fade2;     // distance fade end, debug Hi-Z mip, 0, 0
+    // The trace mode and the debug view are also the trace's and the composite's specialization
+    // constants; the shaders read those.
     uvec4 modes;    // trace mode (0 hiz, 1 linear), coverage (0 hit, 1 visibility), history valid, Hi-Z levels
     uvec4 modes2;   // debug view, multi-bounce, material count, 0
 } rf;
