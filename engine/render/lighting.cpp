@@ -1,13 +1,17 @@
 // render.lighting: a fullscreen fragment pass, one invocation per pixel (lighting.frag). Lights, the shadow
-// matrix and the irradiance SH never change for a scene, so they live in one buffer written at
-// construction; per-frame data fits in push constants.
+// matrix and the irradiance SH never change for a scene: lighting.frag takes the lights and SH as
+// specialization constants, the shadow mask reads one buffer written at construction; per-frame
+// data fits in push constants.
 #include "renderer_impl.hpp"
 
 #include "speculum/core.hpp"
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 namespace speculum::render {
 namespace {
@@ -85,6 +89,20 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
     return s;
 }
 
+// lighting.frag's specialization constants: the light counts (ids 0, 1), the irradiance SH
+// rgb from id 2, light i's four vec4 from id 32 + 16 i (floats as their bits).
+std::vector<uint32_t> lightingConstants(const GpuSceneLighting& s) {
+    constexpr size_t kShId = 2, kLightsId = 32;
+    std::vector<uint32_t> c(kLightsId + sizeof(s.lights) / sizeof(float), 0u);
+    c[0] = s.counts.y;
+    c[1] = s.counts.x;
+    for (size_t k = 0; k < s.sh.size(); ++k)
+        for (int j = 0; j < 3; ++j) c[kShId + 3 * k + size_t(j)] = std::bit_cast<uint32_t>(s.sh[k][j]);
+    static_assert(sizeof(GpuLight) == 16 * sizeof(float));
+    std::memcpy(c.data() + kLightsId, s.lights.data(), sizeof(s.lights));
+    return c;
+}
+
 }  // namespace
 
 void Renderer::Impl::createLightingResources() {
@@ -93,10 +111,10 @@ void Renderer::Impl::createLightingResources() {
     gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/lighting.frag", kLinearFormat, "render.lighting");
     for (uint32_t b = 0; b < 7; ++b)
         d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
-    d.bindings.push_back({7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.pushConstantBytes = sizeof(LightingConstants);
-    // The light counts are specialization constants: the shader's light loops unroll.
-    d.fragmentConstants = {lightCounts.x, lightCounts.y};
+    // The scene's lights and SH are specialization constants (see lighting.frag); the buffer
+    // below serves the shadow mask.
+    d.fragmentConstants = lightingConstants(data);
     lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
     sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
                                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_lighting");
@@ -120,7 +138,6 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
         .sampled(4, maskView, nearest)
         .sampled(5, environment->specular().view(), environment->sampler())
         .sampled(6, environment->dfg().view(), environment->sampler())
-        .buffer(7, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
