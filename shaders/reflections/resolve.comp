@@ -20,12 +20,13 @@ layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
 
-// Twin of coneAngle() in modules/reflections/math.cpp.
-float coneAngle(float roughness) {
+// tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
+// acos and tan cost a polynomial each per lane on a CPU driver.
+float coneTan(float roughness) {
     float alpha = max(roughness * roughness, 1e-4);
     float power = 2.0 / (alpha * alpha) - 2.0;
-    if (power > 1048576.0) return 0.0;
-    return acos(pow(0.244, 1.0 / (power + 1.0)));
+    float c = exp2(log2(0.244) / (power + 1.0));
+    return power > 1048576.0 ? 0.0 : sqrt(max(1.0 - c * c, 0.0)) / c;
 }
 
 float incircleRadius(float base, float height) {
@@ -37,12 +38,11 @@ float incircleRadius(float base, float height) {
 vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out float accumulated) {
     vec2 delta = hit.xy - start;
     float len = length(delta);
-    float theta = coneAngle(roughness);
+    float tanTheta = coneTan(roughness);
     vec3 mirror = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
     accumulated = 1.0;
-    if (theta <= 0.0 || len < 1.0) return mirror;
+    if (tanTheta <= 0.0 || len < 1.0) return mirror;
     vec2 u = delta / len;
-    float tanTheta = tan(theta);
     float maxMip = float(textureQueryLevels(colorPyramid) - 1);
     int maxLevel = int(rf.modes.w) - 1;
     float adjacent = len;

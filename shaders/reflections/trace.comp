@@ -67,8 +67,8 @@ float occupiedFar(float farthest) {
 }
 
 // The t at which the ray enters the occupied interval [lo, hi] of a cell, within [t0, t1].
-float entryT(ScreenRay ray, float lo, float hi, float t0, float t1) {
-    float te = ray.d.z < 0.0 ? (hi - ray.o.z) / ray.d.z : ray.d.z > 0.0 ? (lo - ray.o.z) / ray.d.z : t0;
+float entryT(ScreenRay ray, float invDz, float lo, float hi, float t0, float t1) {
+    float te = ray.d.z < 0.0 ? (hi - ray.o.z) * invDz : ray.d.z > 0.0 ? (lo - ray.o.z) * invDz : t0;
     return clamp(te, t0, t1);
 }
 
@@ -217,6 +217,8 @@ vec3 traceHiZ(ScreenRay ray) {
     int stopLevel = min(int(rf.trace.w), maxLevel);
     // Finite for axes the ray does not move along: their exit t is then far past tMax.
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
+    float invDz = ray.d.z != 0.0 ? 1.0 / ray.d.z : 0.0;
+    float farScale = 1.0 / (1.0 + rf.trace2.x);
     Cell origin = cellAt(ray, invD, ray.pixel, 0);
     if (origin.tExit >= ray.tMax) return vec3(0.0, -2.0, 0.0);
     ivec2 pix = crossExit(ray, origin, pixelAt(ray, origin, ray.pixel, origin.tExit));
@@ -236,7 +238,7 @@ vec3 traceHiZ(ScreenRay ray) {
         Cell c = cellAt(ray, invD, pix, level);
         float tEnd = min(c.tExit, ray.tMax);
         vec2 mm = texelFetch(hiz, c.index, level).rg;
-        float lo = occupiedFar(mm.x);
+        float lo = mm.x * farScale;
         float dA = ray.o.z + ray.d.z * t;
         float dB = ray.o.z + ray.d.z * tEnd;
         // One straight path for both outcomes (lavapipe would run both sides of an if):
@@ -244,7 +246,7 @@ vec3 traceHiZ(ScreenRay ray) {
         // everything in the cell (Uludag's intersectDepthPlane), and looks closer; an empty
         // cell moves to its exit and crosses into the next cell on the axis that exits first.
         bool overlap = max(dA, dB) >= lo && min(dA, dB) <= mm.y;
-        t = overlap ? entryT(ray, lo, mm.y, t, tEnd) : c.tExit;
+        t = overlap ? entryT(ray, invDz, lo, mm.y, t, tEnd) : c.tExit;
         if (overlap && level <= stopLevel) {
             status = 0.0;
             break;
