@@ -1,19 +1,21 @@
 #!/usr/bin/env bash
 # Times the default frame (gallery, camera main) and prints a markdown table of per-pass GPU
 # medians plus transient memory with and without aliasing. Usage:
-#   bash tests/bench/frame_bench.sh [WxH] [FRAMES]      (default 960x540, 20 frames)
+#   bash tests/bench/frame_bench.sh [WxH] [FRAMES] [speculum-capture flags...]
+# (default 960x540, 20 frames; e.g. `--set reflections.enabled=false` for the engine alone)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${SPECULUM_BUILD_DIR:-build}
-size=${1:-960x540}; frames=${2:-20}
+size=${1:-960x540}; frames=${2:-20}; shift $(( $# < 2 ? $# : 2 ))
 out=$(mktemp -d)
 export MESA_SHADER_CACHE_DIR="$PWD/$BUILD/mesa-cache"
 "$BUILD/engine/speculum-capture" --scene assets/scenes/gallery.gltf --camera main --size "$size" \
-  --warmup 5 --frames "$frames" --aov color --out "$out" >/dev/null
-python3 - "$out/timings.json" "$size" "$frames" <<'PY'
+  --warmup 5 --frames "$frames" --aov color --out "$out" "$@" >/dev/null
+python3 - "$out/timings.json" "$size" "$frames" "$*" <<'PY'
 import json, sys, os
 t = json.load(open(sys.argv[1]))
-print(f"gallery/main {sys.argv[2]}, {sys.argv[3]} timed frames after 5 warm-up, device: {t['device']}, "
+flags = f" ({sys.argv[4]})" if sys.argv[4] else ""
+print(f"gallery/main {sys.argv[2]}{flags}, {sys.argv[3]} timed frames after 5 warm-up, device: {t['device']}, "
       f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores\n")
 # Passes run once per mip (name.N) are summed into one row: sums of medians and of minima.
 rows = {}
