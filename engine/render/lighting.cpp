@@ -1,7 +1,7 @@
 // render.lighting: a fullscreen fragment pass, one invocation per pixel (lighting.frag). Lights, the shadow
 // matrix and the irradiance SH never change for a scene: lighting.frag takes the lights and SH as
-// specialization constants, the shadow mask reads one buffer written at construction; per-frame
-// data fits in push constants.
+// specialization constants, the shadow mask reads the shadow matrix from one buffer written at
+// construction; per-frame data fits in push constants.
 #include "renderer_impl.hpp"
 
 #include "speculum/core.hpp"
@@ -18,19 +18,23 @@ namespace {
 
 constexpr uint32_t kMaxLights = 16;
 
-// std140 mirror of shaders/engine/lighting_common.glsl (a uniform buffer).
+// Mirrors of shaders/engine/lighting_common.glsl: GpuLight as lighting.frag unpacks it from its
+// specialization constants, GpuSceneShadow the shadow mask's std140 uniform buffer.
 struct GpuLight {
     glm::vec4 positionType;
     glm::vec4 directionRange;
     glm::vec4 radiance;
     glm::vec4 cone;
 };
-struct GpuSceneLighting {
+struct GpuSceneShadow {
     glm::mat4 shadowViewProj;
     glm::vec4 shadowParams;
     glm::vec4 shadowToLight;
+};
+struct StaticLighting {
+    GpuSceneShadow shadow;
     std::array<glm::vec4, 9> sh;
-    glm::uvec4 counts;
+    uint32_t count = 0, directional = 0;  // directional lights come first
     std::array<GpuLight, kMaxLights> lights;
 };
 
@@ -57,15 +61,15 @@ GpuLight toGpu(const Light& l, bool shadowed) {
     return g;
 }
 
-GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shadow,
-                                    const Environment& env, uint32_t shadowMapSize) {
-    GpuSceneLighting s{};
-    s.shadowViewProj = shadow.viewProj;
+StaticLighting buildStaticLighting(const Scene& scene, const ShadowSetup& shadow,
+                                   const Environment& env, uint32_t shadowMapSize) {
+    StaticLighting s{};
+    s.shadow.shadowViewProj = shadow.viewProj;
     // Normal offset of 1.5 texels and a constant bias of one texel's world size in depth keep
     // lit planes free of acne under the mask's 2x2 filter.
-    s.shadowParams = glm::vec4(float(shadowMapSize), shadow.depthTexel, 1.5f * shadow.worldTexel,
+    s.shadow.shadowParams = glm::vec4(float(shadowMapSize), shadow.depthTexel, 1.5f * shadow.worldTexel,
                                shadow.enabled ? 1.0f : 0.0f);
-    s.shadowToLight = glm::vec4(shadow.toLight, 0.0f);
+    s.shadow.shadowToLight = glm::vec4(shadow.toLight, 0.0f);
     s.sh = env.irradianceSH();
     bool shadowAssigned = false;
     uint32_t count = 0;
@@ -85,17 +89,18 @@ GpuSceneLighting buildSceneLighting(const Scene& scene, const ShadowSetup& shado
     auto isDirectional = [](const GpuLight& g) { return g.positionType.w == 0.0f; };
     auto directional =
         std::stable_partition(s.lights.begin(), s.lights.begin() + count, isDirectional);
-    s.counts = glm::uvec4(count, uint32_t(directional - s.lights.begin()), 0, 0);
+    s.count = count;
+    s.directional = uint32_t(directional - s.lights.begin());
     return s;
 }
 
 // lighting.frag's specialization constants: the light counts (ids 0, 1), the irradiance SH
 // rgb from id 2, light i's four vec4 from id 32 + 16 i (floats as their bits).
-std::vector<uint32_t> lightingConstants(const GpuSceneLighting& s) {
+std::vector<uint32_t> lightingConstants(const StaticLighting& s) {
     constexpr size_t kShId = 2, kLightsId = 32;
     std::vector<uint32_t> c(kLightsId + sizeof(s.lights) / sizeof(float), 0u);
-    c[0] = s.counts.y;
-    c[1] = s.counts.x;
+    c[0] = s.directional;
+    c[1] = s.count;
     for (size_t k = 0; k < s.sh.size(); ++k)
         for (int j = 0; j < 3; ++j) c[kShId + 3 * k + size_t(j)] = std::bit_cast<uint32_t>(s.sh[k][j]);
     static_assert(sizeof(GpuLight) == 16 * sizeof(float));
@@ -106,18 +111,15 @@ std::vector<uint32_t> lightingConstants(const GpuSceneLighting& s) {
 }  // namespace
 
 void Renderer::Impl::createLightingResources() {
-    GpuSceneLighting data = buildSceneLighting(scene, shadow, *environment, options.shadowMapSize);
-    lightCounts = glm::uvec2(data.counts.y, data.counts.x);
+    StaticLighting data = buildStaticLighting(scene, shadow, *environment, options.shadowMapSize);
     gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/lighting.frag", kLinearFormat, "render.lighting");
     for (uint32_t b = 0; b < 7; ++b)
         d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.pushConstantBytes = sizeof(LightingConstants);
-    // The scene's lights and SH are specialization constants (see lighting.frag); the buffer
-    // below serves the shadow mask.
     d.fragmentConstants = lightingConstants(data);
     lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
-    sceneLighting = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data, 1)),
-                                      VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_lighting");
+    sceneShadow = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data.shadow, 1)),
+                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_shadow");
     nearestSampler =
         gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false);
 }

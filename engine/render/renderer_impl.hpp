@@ -77,8 +77,7 @@ struct Renderer::Impl {
     ShadowSetup shadow;
 
     gpu::Buffer frameConstants;  // viewProj, prevViewProj: updated in the depth prepass
-    gpu::Buffer sceneLighting;   // lights, shadow matrix, SH: static (lighting.cpp)
-    glm::uvec2 lightCounts{0};   // directional (first in sceneLighting), all
+    gpu::Buffer sceneShadow;     // the shadow mask's static uniforms (lighting.cpp)
     gpu::Unique<VkSampler> nearestSampler;
     gpu::Unique<VkSampler> shadowCompareSampler;  // textureGather with depth compare
     gpu::Image dummyShadowMask;  // bound when there is no directional light

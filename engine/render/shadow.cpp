@@ -152,7 +152,7 @@ void Renderer::Impl::recordShadowMask(PassContext& pass, const FrameInputs& fram
     gpu::DescriptorWriter()
         .sampled(0, pass.view(depth), nearestSampler)
         .sampled(1, pass.view(map), shadowCompareSampler)
-        .buffer(2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneLighting.get())
+        .buffer(2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneShadow.get())
         .push(ctx, cmd, shadowMaskPipeline);
     MaskConstants c{frame.camera.invViewProj, glm::vec4(frame.camera.position, 0.0f),
                     glm::uvec4(extent.width, extent.height, 0, 0)};

@@ -1,6 +1,6 @@
-// Scene-static lighting data (lights, shadow matrix, irradiance SH), written once by
-// engine/render/lighting.cpp (std140, all vec4 so std430 alike; mirrored there by
-// GpuSceneLighting) and read by lighting.frag and shadow_mask.frag.
+// Scene-static lighting data, built once by engine/render/lighting.cpp: the lights' layout
+// (lighting.frag takes them as specialization constants) and the shadow mask's uniform buffer
+// (std140, all vec4 so std430 alike; mirrored there by GpuSceneShadow).
 #ifndef SPECULUM_LIGHTING_COMMON_GLSL
 #define SPECULUM_LIGHTING_COMMON_GLSL
 
@@ -16,13 +16,10 @@ struct GpuLight {
     vec4 cone;            // x angle scale, y angle offset (glTF spot falloff)
 };
 
-struct SceneLighting {
+struct SceneShadow {
     mat4 shadowViewProj;  // world to the shadow map's clip space (orthographic, reversed-Z)
     vec4 shadowParams;    // x map size, y depth bias, z normal offset (world units), w enabled
     vec4 shadowToLight;   // xyz unit direction towards the shadowed light
-    vec4 sh[9];           // irradiance SH / pi (environment.hpp)
-    uvec4 counts;         // x light count, y directional lights (they come first)
-    GpuLight lights[kMaxLights];
 };
 
 #endif

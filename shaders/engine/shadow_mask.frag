@@ -15,8 +15,8 @@
 layout(set = 0, binding = 0) uniform sampler2D depthTex;         // D32 reversed-Z, gathered
 layout(set = 0, binding = 1) uniform sampler2DShadow shadowMap;  // D32, compare GREATER_OR_EQUAL
 // A uniform buffer, not storage: CPU drivers load uniform data once per SIMD group.
-layout(set = 0, binding = 2, std140) uniform SceneLightingBuffer {
-    SceneLighting scene;
+layout(set = 0, binding = 2, std140) uniform SceneShadowBuffer {
+    SceneShadow scene;
 };
 layout(location = 0) out vec4 outMask;  // R8_UNORM
 

@@ -62,8 +62,10 @@ ScreenRay screenRay(vec2 px, float depth, vec3 p, vec3 r) {
     return ray;
 }
 
-float occupiedFar(float farthest) {
-    return farthest / (1.0 + rf.trace2.x);
+// A surface occupies depths [farthest * occupiedFarScale(), closest] (the thickness model).
+// Callers take it once per ray: a division per cell test or step costs a CPU driver 3%.
+float occupiedFarScale() {
+    return 1.0 / (1.0 + rf.trace2.x);
 }
 
 // The t at which the ray enters the occupied interval [lo, hi] of a cell, within [t0, t1].
@@ -218,7 +220,7 @@ vec3 traceHiZ(ScreenRay ray) {
     // Finite for axes the ray does not move along: their exit t is then far past tMax.
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
     float invDz = ray.d.z != 0.0 ? 1.0 / ray.d.z : 0.0;
-    float farScale = 1.0 / (1.0 + rf.trace2.x);
+    float farScale = occupiedFarScale();
     Cell origin = cellAt(ray, invD, ray.pixel, 0);
     if (origin.tExit >= ray.tMax) return vec3(0.0, -2.0, 0.0);
     ivec2 pix = crossExit(ray, origin, pixelAt(ray, origin, ray.pixel, origin.tExit));
@@ -275,13 +277,13 @@ vec3 traceHiZ(ScreenRay ray) {
 // The origin's own pixel never occludes: against its single depth sample, a ray leaving a
 // surface that recedes with it reads as behind it, and the refinement would collapse onto the
 // origin (a self-hit, seen as dashes along creases).
-bool behind(ScreenRay ray, float t, out bool inside) {
+bool behind(ScreenRay ray, float farScale, float t, out bool inside) {
     vec2 pos = ray.o.xy + ray.d.xy * t;
     ivec2 p = clamp(ivec2(floor(pos)), ivec2(0), ivec2(rf.size.xy) - 1);
     float scene = texelFetch(hiz, p, 0).g;
     float rayDepth = ray.o.z + ray.d.z * t;
     bool origin = all(equal(p, ray.pixel));
-    inside = !origin && rayDepth <= scene && rayDepth >= occupiedFar(scene);
+    inside = !origin && rayDepth <= scene && rayDepth >= scene * farScale;
     return !origin && rayDepth <= scene;
 }
 
@@ -289,6 +291,7 @@ vec3 traceLinear(ScreenRay ray) {
     float major = max(abs(ray.d.x), abs(ray.d.y));
     if (major <= 0.0) return vec3(0.0, -1.0, 0.0);
     float dt = rf.trace2.y / major;
+    float farScale = occupiedFarScale();
     int maxSteps = int(rf.trace2.z);
     float status = -1.0;
     int i = 1;
@@ -296,7 +299,7 @@ vec3 traceLinear(ScreenRay ray) {
         float t = float(i) * dt;
         if (t >= ray.tMax) break;
         bool inside;
-        behind(ray, t, inside);
+        behind(ray, farScale, t, inside);
         if (inside) {
             status = 0.0;
             break;
@@ -308,7 +311,7 @@ vec3 traceLinear(ScreenRay ray) {
     for (int k = 0; k < refine; ++k) {
         float m = 0.5 * (a + b);
         bool unused;
-        if (behind(ray, m, unused)) b = m;
+        if (behind(ray, farScale, m, unused)) b = m;
         else a = m;
     }
     return vec3(b, 0.0, float(i + refine));

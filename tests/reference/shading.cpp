@@ -26,7 +26,7 @@ struct PreparedLight {
     bool shadowed = false;
 };
 
-// The engine's light list (lighting.cpp buildSceneLighting): the first 16 lights, directional
+// The engine's light list (lighting.cpp buildStaticLighting): the first 16 lights, directional
 // ones first, and only the first directional light of the file casts shadows (the shadow map).
 std::vector<PreparedLight> prepareLights(const Scene& scene) {
     std::vector<PreparedLight> lights;
