@@ -58,6 +58,7 @@ int run(const Options& o) {
     std::vector<std::string> aovs = parseAovs(o.aov);
 
     std::vector<SettingDesc> table = app::engineSettingsTable();
+    for (SettingDesc& d : probes::settingsTable()) table.push_back(std::move(d));
     for (SettingDesc& d : reflections::settingsTable()) table.push_back(std::move(d));
     Settings settings(std::move(table));
     if (!o.settingsFile.empty()) settings.load(o.settingsFile);
@@ -76,14 +77,22 @@ int run(const Options& o) {
     render::RendererOptions ro;
     app::applyRenderSettings(settings, ro);
     render::Renderer renderer(ctx, scene, ro);
+    probes::Probes probeModule(ctx, renderer, probes::ProbeSettings::from(settings));
     reflections::Reflections module(ctx, renderer);
     app::FrameRunner runner(ctx, renderer, w, h);
     fs::create_directories(o.out);
+    // Probes update before each frame's graph is built (their captures are graphs of their own).
+    auto updateProbes = [&] {
+        probeModule.update([](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); });
+    };
 
     // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.
     render::FrameInputs frame;
     frame.camera = frame.previousCamera = cameras.front();
-    for (int i = 0; i < o.warmup; ++i) runner.render(frame, {}, reflections::litHook(module, settings, frame));
+    for (int i = 0; i < o.warmup; ++i) {
+        updateProbes();
+        runner.render(frame, {}, reflections::litHook(module, &probeModule, settings, frame));
+    }
 
     app::TimingLog timings;
     bool writeEvery = !o.path.empty();
@@ -92,8 +101,9 @@ int run(const Options& o) {
         frame.camera = cameras[i];
         if (i == 0) frame.previousCamera = frame.camera;
         bool write = writeEvery || i + 1 == cameras.size();
+        updateProbes();
         app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{},
-                                                reflections::litHook(module, settings, frame));
+                                                reflections::litHook(module, &probeModule, settings, frame));
         timings.add(result);
         if (write)
             for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);

@@ -4,15 +4,17 @@
 
 namespace speculum::reflections {
 
-app::LitHook litHook(Reflections& module, const Settings& settings, const render::FrameInputs& frame) {
-    return [&module, &settings, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
+app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
+                     const render::FrameInputs& frame) {
+    return [&module, probes, &settings, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
                                         app::ModuleAovs& aovs) {
         ReflectionSettings s = ReflectionSettings::from(settings);
         module.setActive(s.enabled);
         if (!s.enabled) return lit;
         const auto& asked = aovs.requested;
         bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
-        ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame}, s, hizView);
+        probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes) : probes::ProbeSet{};
+        ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame, set}, s, hizView);
         aovs.provided["reflection"] = {out.reflection, 3};
         aovs.provided["method"] = {out.method, 3};
         aovs.provided["iterations"] = {out.hit, 1, 3};

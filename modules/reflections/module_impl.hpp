@@ -53,6 +53,11 @@ struct Reflections::Impl {
     gpu::Buffer materials;
     uint32_t materialCount = 0;
     History history;
+    // Bound when the host gives no probes (ReflectionInputs::probes left empty): one black cube
+    // and one zeroed record, blended zero times.
+    gpu::Image noProbeCubes;
+    gpu::Buffer noProbeRecords;
+    probes::ProbeSet importNoProbes(FrameGraph& g) const;
     // This frame's imports of the history images (addColorPyramid reads, addHistory writes).
     TextureHandle historyColorHandle, historyDepthHandle;
 

@@ -172,11 +172,15 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, reflection, method;
+        TextureHandle hiz, normal, emissive, hit, color, reflection, method, probeCubes;
+        BufferHandle probeRecords;
     };
+    probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
+            data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
+            data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -198,7 +202,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
                 .sampled(6, pc.view(data.color), trilinear)
                 .sampled(8, env.specular().view(), env.sampler())
                 .storage(9, pc.view(data.reflection))
-                .storage(10, pc.view(data.method));
+                .storage(10, pc.view(data.method))
+                .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
+                .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
             dispatch(pc, resolve, w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;

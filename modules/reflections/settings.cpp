@@ -50,6 +50,9 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
          "Build the colour pyramid from the previous frame's final image reprojected, so "
          "reflections of reflections accumulate over frames."},
+        {"reflections.probes", T::Bool, "", 0, 1, 1, {},
+         "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
+         "chain; off: what screen space leaves goes to the sky."},
         {"reflections.debug_view", T::Enum, "", 0, 6, 0,
          {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
@@ -59,8 +62,10 @@ std::vector<SettingDesc> settingsTable() {
     };
 }
 
+ReflectionSettings::ReflectionSettings() : ReflectionSettings(from(Settings(settingsTable()))) {}
+
 ReflectionSettings ReflectionSettings::from(const Settings& s) {
-    ReflectionSettings r;
+    ReflectionSettings r{Blank{}};
     r.enabled = s.getBool("reflections.enabled");
     r.trace = TraceMode(s.getInt("reflections.trace"));
     r.maxIterations = s.getInt("reflections.max_iterations");
@@ -80,6 +85,7 @@ ReflectionSettings ReflectionSettings::from(const Settings& s) {
     r.distanceFadeStart = s.getFloat("reflections.distance_fade_start");
     r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
     r.multiBounce = s.getBool("reflections.multi_bounce");
+    r.probes = s.getBool("reflections.probes");
     r.debugView = DebugView(s.getInt("reflections.debug_view"));
     r.debugHizMip = s.getInt("reflections.debug_hiz_mip");
     return r;

@@ -8,6 +8,7 @@
 #include "speculum/gpu/context.hpp"
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/gpu/resources.hpp"
+#include "speculum/probes/probes.hpp"
 #include "speculum/render/renderer.hpp"
 #include "speculum/settings.hpp"
 
@@ -27,42 +28,54 @@ enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
 enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection };
 inline constexpr size_t kDebugViewCount = 7;
 
+// The values of settingsTable(). Its defaults are the table's (the constructor reads them), so
+// that no second copy of a default can drift from the table; tests/unit/settings_test.cpp checks
+// every field against the table.
 struct ReflectionSettings {
-    bool enabled = true;
-    TraceMode trace = TraceMode::HiZ;
-    int maxIterations = 64;
-    int linearPreSteps = 2;
-    int hizStartLevel = 2;
-    int hizStopLevel = 0;
-    float linearStride = 2.0f;
-    int linearMaxSteps = 512;
-    int refineSteps = 5;
-    float thickness = 0.08f;
-    int coneSamples = 8;
-    CoverageMode coverage = CoverageMode::Hit;
-    float maxRoughness = 0.6f;
-    float edgeFade = 0.05f;
-    float cameraFadeStart = -0.2f;
-    float cameraFadeEnd = -0.6f;
-    float distanceFadeStart = 40.0f;
-    float distanceFadeEnd = 60.0f;
-    bool multiBounce = true;
-    DebugView debugView = DebugView::None;
-    int debugHizMip = 3;
-
+    ReflectionSettings();
     static ReflectionSettings from(const Settings& settings);
+
+    bool enabled;
+    TraceMode trace;
+    int maxIterations;
+    int linearPreSteps;
+    int hizStartLevel;
+    int hizStopLevel;
+    float linearStride;
+    int linearMaxSteps;
+    int refineSteps;
+    float thickness;
+    int coneSamples;
+    CoverageMode coverage;
+    float maxRoughness;
+    float edgeFade;
+    float cameraFadeStart;
+    float cameraFadeEnd;
+    float distanceFadeStart;
+    float distanceFadeEnd;
+    bool multiBounce;
+    bool probes;  // local probes in the fallback chain (off: screen space, then the sky)
+    DebugView debugView;
+    int debugHizMip;
+
+private:
+    struct Blank {};
+    explicit ReflectionSettings(Blank) {}
 };
 
 struct ReflectionInputs {
     render::GBuffer gbuffer;
     TextureHandle lit;  // this frame's lit HDR image (render.lighting)
     render::FrameInputs frame;
+    // The probes module's output (Probes::addPasses on the same graph); empty: no probes, what
+    // screen space leaves goes to the sky.
+    probes::ProbeSet probes;
 };
 
 struct ReflectionOutputs {
     TextureHandle lit;          // lit + reflection * DFG on reflective pixels (or a debug view)
     TextureHandle reflection;   // RGBA16F: rgb pre-Fresnel reflection radiance, a screen-space share
-    TextureHandle method;       // RGBA16F: r screen space, g probes (later), b environment weight
+    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky (they sum to 1)
     TextureHandle hit;          // RGBA32F: xy hit pixel position, z hit depth (< 0 miss), w iterations
     TextureHandle hiz;          // RG32F pyramid: x farthest, y closest depth per cell (reversed-Z)
     TextureHandle visibility;   // R8 pre-integrated visibility pyramid
