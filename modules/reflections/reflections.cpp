@@ -122,7 +122,8 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     // world radius of about r * z * pixelAngle.
     float pixelAngle = 2.0f * std::tan(cam.yfov * 0.5f) / float(h);
     float envMaxMip = float(renderer.environment().mipCount() - 1);
-    u.cone = glm::vec4(float(s.coneSamples), s.maxRoughness, envMaxMip, pixelAngle);
+    // Screen space off: a limit below every roughness, so nothing is traced and coverage is 0.
+    u.cone = glm::vec4(float(s.coneSamples), s.screenSpace ? s.maxRoughness : -1.0f, envMaxMip, pixelAngle);
     u.fade = glm::vec4(s.edgeFade, s.cameraFadeStart, s.cameraFadeEnd, s.distanceFadeStart);
     float exposure = std::max(renderer.options().exposure, 1e-6f);
     u.fade2 = glm::vec4(s.distanceFadeEnd, float(s.debugHizMip), 1.0f / exposure, 0.0f);

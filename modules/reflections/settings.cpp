@@ -9,6 +9,9 @@ std::vector<SettingDesc> settingsTable() {
     return {
         {"reflections.enabled", T::Bool, "", 0, 1, 1, {},
          "Run the reflections module; off leaves the renderer's prefiltered-environment specular."},
+        {"reflections.screen_space", T::Bool, "", 0, 1, 1, {},
+         "Trace screen space first in the fallback chain; off: probes and the sky only (the bench's "
+         "`probes` method)."},
         {"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
          "Screen-space tracer: hierarchical min/max Hi-Z traversal, or the linear march with binary "
          "refinement kept as the baseline."},
@@ -67,6 +70,7 @@ ReflectionSettings::ReflectionSettings() : ReflectionSettings(from(Settings(sett
 ReflectionSettings ReflectionSettings::from(const Settings& s) {
     ReflectionSettings r{Blank{}};
     r.enabled = s.getBool("reflections.enabled");
+    r.screenSpace = s.getBool("reflections.screen_space");
     r.trace = TraceMode(s.getInt("reflections.trace"));
     r.maxIterations = s.getInt("reflections.max_iterations");
     r.linearPreSteps = s.getInt("reflections.linear_pre_steps");

@@ -11,6 +11,7 @@ TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
     Settings table(reflections::settingsTable());
     reflections::ReflectionSettings s;
     EXPECT_EQ(s.enabled, table.getBool("reflections.enabled"));
+    EXPECT_EQ(s.screenSpace, table.getBool("reflections.screen_space"));
     EXPECT_EQ(int(s.trace), table.getInt("reflections.trace"));
     EXPECT_EQ(s.maxIterations, table.getInt("reflections.max_iterations"));
     EXPECT_EQ(s.linearPreSteps, table.getInt("reflections.linear_pre_steps"));

@@ -36,6 +36,7 @@ struct ReflectionSettings {
     static ReflectionSettings from(const Settings& settings);
 
     bool enabled;
+    bool screenSpace;  // off: no ray is traced, the chain starts at the probes
     TraceMode trace;
     int maxIterations;
     int linearPreSteps;
