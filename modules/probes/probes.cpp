@@ -105,13 +105,20 @@ void Probes::Impl::validate() const {
     if (probes.size() > capacity)
         throw inputError(file, std::to_string(probes.size()) + " local cubemap probes; the cube array holds " +
                                    std::to_string(capacity) + " (" + probes[capacity].name + " is one too many)");
-    uint32_t size = 8;
-    for (const ProbeInfo& p : probes) size = std::max(size, p.probe.resolution);
+    // Every cube of the array takes the largest probe's face size: name that probe.
+    const ProbeInfo* largest = nullptr;
+    for (const ProbeInfo& p : probes)
+        if (!largest || p.probe.resolution > largest->probe.resolution) largest = &p;
+    uint32_t size = largest ? std::max(8u, largest->probe.resolution) : 8u;
     VkDeviceSize bytes = VkDeviceSize(size) * size * 8 * 6 * std::max<size_t>(probes.size(), 1) * 4 / 3;
     if (bytes > kMaxArrayBytes)
-        throw inputError(file, "the probes' cube array (" + std::to_string(probes.size()) + " probes of " +
-                                   std::to_string(size) + "^2 faces) would take " + std::to_string(bytes >> 20) +
-                                   " MiB, over the " + std::to_string(kMaxArrayBytes >> 20) + " MiB budget");
+        throw inputError(file, largest->name + ".extensions.SPECULUM_reflection_probe.resolution: " +
+                                   std::to_string(size) + " makes the probes' cube array (" +
+                                   std::to_string(probes.size()) + " cubes of " + std::to_string(size) +
+                                   "^2 faces, each cube at the largest probe's resolution) take " +
+                                   std::to_string(bytes >> 20) + " MiB, over the " +
+                                   std::to_string(kMaxArrayBytes >> 20) +
+                                   " MiB budget: lower the resolution or use fewer probes");
 }
 
 void Probes::Impl::allocate() {
