@@ -451,7 +451,8 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
 
 // 3b. Two overlapping box probes: the one of higher `order` (listed second, with the larger
 // volume, so neither node order nor volume would put it first) takes weight 1 in the overlap;
-// where only the other one reaches, that one takes weight 1.
+// where only the other one reaches, that one takes weight 1; in the higher one's blend zone the
+// two weights follow its linear fade and sum to 1.
 TEST_F(ProbesGpu, HigherOrderProbeTakesTheWholeWeightInTheOverlap) {
     ReflectionProbe low, high;
     low.extents = {2.0f, 1.0f, 2.0f};  // x in [1, 5]
@@ -473,13 +474,17 @@ TEST_F(ProbesGpu, HigherOrderProbeTakesTheWholeWeightInTheOverlap) {
     std::mt19937 rng(7u);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::vector<Query> queries;
-    std::vector<int> region;  // 0 overlap, 1 the low-order probe alone (beyond the other's blend)
-    for (int i = 0; i < 2048; ++i) {
-        bool overlap = i % 2 == 0;
-        glm::vec3 p(overlap ? 1.0f + 1.0f * u(rng) : 2.6f + 2.3f * u(rng), 0.05f + 1.9f * u(rng), -1.95f + 3.9f * u(rng));
-        glm::vec3 r = glm::vec3(randomUnit(rng)), n = glm::vec3(randomUnit(rng));
+    // 0 overlap, 1 the low-order probe alone (beyond the other's blend distance), 2 inside the
+    // low-order probe and in the other's blend zone (x in (2, 2.5)), normal facing its centre.
+    std::vector<int> region;
+    for (int i = 0; i < 3072; ++i) {
+        int k = i % 3;
+        float x = k == 0 ? 1.0f + 1.0f * u(rng) : k == 1 ? 2.6f + 2.3f * u(rng) : 2.02f + 0.46f * u(rng);
+        glm::vec3 p(x, 0.05f + 1.9f * u(rng), -1.95f + 3.9f * u(rng));
+        glm::vec3 r = glm::vec3(randomUnit(rng));
+        glm::vec3 n = k == 2 ? glm::normalize(glm::vec3(-1.0f, 1.0f, 0.0f) - p) : glm::vec3(randomUnit(rng));
         queries.push_back({glm::vec4(p, u(rng)), glm::vec4(n, 0.0f), glm::vec4(r, 0.0f)});
-        region.push_back(overlap ? 0 : 1);
+        region.push_back(k);
     }
     LookupRig rig(*ctx_);
     std::vector<glm::vec4> out = rig.run(records, queries);
@@ -489,7 +494,14 @@ TEST_F(ProbesGpu, HigherOrderProbeTakesTheWholeWeightInTheOverlap) {
         glm::vec4 blend = out[4 * i + 3];
         // Cube 0 (the higher order) is red, cube 1 green: rgb are the two weights.
         glm::vec4 want = region[i] == 0 ? glm::vec4(1, 0, 0, 1) : glm::vec4(0, 1, 0, 1);
-        if (glm::any(glm::greaterThan(glm::abs(blend - want), glm::vec4(1e-6f)))) {
+        float tolerance = 1e-6f;
+        if (region[i] == 2) {
+            // The linear fade of the blend zone: 1 at the box, 0 at the blend distance (0.5).
+            float wHigh = 1.0f - (queries[i].p.x - 2.0f) / 0.5f;
+            want = glm::vec4(wHigh, 1.0f - wHigh, 0.0f, 1.0f);
+            tolerance = 1e-4f;
+        }
+        if (glm::any(glm::greaterThan(glm::abs(blend - want), glm::vec4(tolerance)))) {
             if (bad++ == 0)
                 firstBad = "query " + std::to_string(i) + " (region " + std::to_string(region[i]) + "): weights " +
                            std::to_string(blend.r) + ", " + std::to_string(blend.g) + ", total " + std::to_string(blend.a);
@@ -522,6 +534,9 @@ TEST_F(ProbesGpu, TimeSlicedUpdatesEqualTheOnceBakedCubeAfterSixFrames) {
     for (int frame = 0; frame < 6; ++frame) {
         b.update();
         EXPECT_EQ(b.facesCaptured(), size_t(frame + 1)) << "one face per update";
+        // A half-captured probe is never blended: its record appears after the sixth face.
+        FrameGraph fg(FrameGraphConfig{8, 8});
+        EXPECT_EQ(b.addPasses(fg).count, frame < 5 ? 0u : 1u) << "after update " << frame + 1;
     }
     ASSERT_EQ(a.facesCaptured(), 6u);
     const gpu::ImageDesc& d = a.cubes().desc();
