@@ -33,17 +33,22 @@ struct Options {
     std::vector<std::string> sets;
 };
 
+// The modules this tool composes, in chain order: probes, then reflections (which takes the
+// probes' handles).
+std::vector<app::ModuleInfo> modules() {
+    return {probes::moduleInfo(), reflections::moduleInfo()};
+}
+
 std::vector<std::string> parseAovs(const std::string& list) {
     auto aovs = app::splitList(list);
     std::string known;
-    for (const auto* l : {&app::availableAovs(), &app::moduleAovs()})
-        for (const std::string& a : *l) known += (known.empty() ? "" : ", ") + a;
+    for (const std::string& a : app::availableAovs()) known += (known.empty() ? "" : ", ") + a;
+    for (const app::ModuleInfo& m : modules())
+        for (const app::AovInfo& a : m.aovs) known += ", " + a.name;
     if (aovs.empty()) throw argumentError("--aov needs at least one of: " + known);
     for (const std::string& a : aovs) {
         const auto& engine = app::availableAovs();
-        const auto& module = app::moduleAovs();
-        if (std::find(engine.begin(), engine.end(), a) == engine.end() &&
-            std::find(module.begin(), module.end(), a) == module.end())
+        if (std::find(engine.begin(), engine.end(), a) == engine.end() && !app::aovProvider(modules(), a))
             throw argumentError("unknown AOV '" + a + "' (known: " + known + ")");
     }
     return aovs;
@@ -57,10 +62,7 @@ int run(const Options& o) {
     auto [w, h] = app::parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
-    std::vector<SettingDesc> table = app::engineSettingsTable();
-    for (SettingDesc& d : probes::settingsTable()) table.push_back(std::move(d));
-    for (SettingDesc& d : reflections::settingsTable()) table.push_back(std::move(d));
-    Settings settings(std::move(table));
+    Settings settings(app::settingsOf(app::engineSettingsTable(), modules()));
     if (!o.settingsFile.empty()) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
 

@@ -32,11 +32,9 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
     FrameGraph fg(FrameGraphConfig{res, res});
     render::FrameInputs frame;
     frame.camera = frame.previousCamera = faceCamera(glm::vec3(info.gpu.center), face, res);
-    // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
-    bool composite = renderer.options().reflectionsComposite;
-    renderer.options().reflectionsComposite = true;
     render::GBuffer g = renderer.addGBufferPasses(fg, frame);
-    TextureHandle lit = renderer.addLightingPass(fg, frame, g);
+    // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
+    TextureHandle lit = renderer.addLightingPass(fg, frame, g, {.moduleSpecular = true});
     TextureHandle array = fg.importTexture("probes.cubes", descOf(cubes),
                                            {cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cubes.desc().usage});
@@ -105,14 +103,8 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
         });
     fg.markOutput(s.cube);
-    try {
-        fg.compile(allocator);
-        ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
-    } catch (...) {
-        renderer.options().reflectionsComposite = composite;
-        throw;
-    }
-    renderer.options().reflectionsComposite = composite;
+    fg.compile(allocator);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
     for (const auto& t : executor.readTimings()) ms += t.ms;
     ++faces;
 }

@@ -14,6 +14,10 @@ std::vector<SettingDesc> settingsTable() {
     };
 }
 
+app::ModuleInfo moduleInfo() {
+    return {"probes", settingsTable(), {}, "", ""};
+}
+
 ProbeSettings::ProbeSettings() : ProbeSettings(from(Settings(settingsTable()))) {}
 
 ProbeSettings ProbeSettings::from(const Settings& s) {

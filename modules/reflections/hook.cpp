@@ -6,11 +6,19 @@ namespace speculum::reflections {
 
 app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
                      const render::FrameInputs& frame) {
-    return [&module, probes, &settings, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
-                                        app::ModuleAovs& aovs) {
-        ReflectionSettings s = ReflectionSettings::from(settings);
-        module.setActive(s.enabled);
-        if (!s.enabled) return lit;
+    ReflectionSettings s = ReflectionSettings::from(settings);
+    app::LitHook hook;
+    hook.modules = {moduleInfo()};
+    if (probes) hook.modules.insert(hook.modules.begin(), probes::moduleInfo());
+    hook.moduleSpecular = s.enabled;
+    if (!s.enabled) {
+        // A frame without the module: the next one must not reproject this one's image.
+        module.resetHistory();
+        hook.addPasses = [](FrameGraph&, const render::GBuffer&, TextureHandle lit, app::ModuleAovs&) { return lit; };
+        return hook;
+    }
+    hook.addPasses = [&module, probes, s, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
+                                                 app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;
         bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
         probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes) : probes::ProbeSet{};
@@ -23,6 +31,7 @@ app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings
         if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
         return out.lit;
     };
+    return hook;
 }
 
 }  // namespace speculum::reflections

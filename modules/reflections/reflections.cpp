@@ -127,7 +127,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.fade = glm::vec4(s.edgeFade, s.cameraFadeStart, s.cameraFadeEnd, s.distanceFadeStart);
     float exposure = std::max(renderer.options().exposure, 1e-6f);
     u.fade2 = glm::vec4(s.distanceFadeEnd, float(s.debugHizMip), 1.0f / exposure, 0.0f);
-    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid ? 1u : 0u, levels);
+    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid() ? 1u : 0u, levels);
     uint32_t probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
     u.modes2 = glm::uvec4(uint32_t(s.debugView), s.multiBounce ? 1u : 0u, materialCount, probeCount);
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
@@ -135,18 +135,10 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
 
 void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
     if (history.width == w && history.height == h) return;
-    history.color = gpu::Image(ctx,
-                               {w, h, render::kLinearFormat, 1, 1, false,
-                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                               "reflections.history.color");
-    history.depth = gpu::Image(ctx,
-                               {w, h, render::kDepthFormat, 1, 1, false,
-                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                               "reflections.history.depth");
+    history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
+    history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
     history.width = w;
     history.height = h;
-    history.valid = false;
-    history.written = false;
 }
 
 gpu::DescriptorWriter Reflections::Impl::writer() const {
@@ -164,21 +156,12 @@ void Reflections::Impl::dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::D
 }
 
 Reflections::Reflections(const gpu::Context& ctx, render::Renderer& renderer)
-    : impl_(std::make_unique<Impl>(ctx, renderer)) {
-    renderer.options().reflectionsComposite = true;
-}
+    : impl_(std::make_unique<Impl>(ctx, renderer)) {}
 
-Reflections::~Reflections() {
-    impl_->renderer.options().reflectionsComposite = false;
-}
-
-void Reflections::setActive(bool active) {
-    impl_->renderer.options().reflectionsComposite = active;
-    if (!active) impl_->history.valid = false;
-}
+Reflections::~Reflections() = default;
 
 void Reflections::resetHistory() {
-    impl_->history.valid = false;
+    impl_->history.invalidate();
 }
 
 const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode) {
@@ -228,7 +211,6 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);
-    m.history.valid = true;
     return out;
 }
 

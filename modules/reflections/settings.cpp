@@ -65,6 +65,18 @@ std::vector<SettingDesc> settingsTable() {
     };
 }
 
+app::ModuleInfo moduleInfo() {
+    return {"reflections",
+            settingsTable(),
+            {{"reflection", "pre-Fresnel reflection radiance (rgb), 0 where nothing reflects"},
+             {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1)"},
+             {"iterations", "screen-space trace iterations per pixel"},
+             {"hiz", "closest and farthest depth of the pixel's cell at reflections.debug_hiz_mip"},
+             {"hit", "trace output: hit pixel x, y, hit depth or a negative miss code, iterations"}},
+            "reflections.debug_view",
+            "reflections.enabled"};
+}
+
 ReflectionSettings::ReflectionSettings() : ReflectionSettings(from(Settings(settingsTable()))) {}
 
 ReflectionSettings ReflectionSettings::from(const Settings& s) {

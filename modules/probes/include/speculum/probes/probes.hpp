@@ -7,6 +7,7 @@
 // module's README explains the technique, its failure modes and its settings.
 #pragma once
 
+#include "speculum/app/module.hpp"
 #include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/render/renderer.hpp"
@@ -23,6 +24,8 @@ namespace speculum::probes {
 
 // The module's settings table (probes.*).
 std::vector<SettingDesc> settingsTable();
+// What the module registers with its host.
+app::ModuleInfo moduleInfo();
 
 // Defaults come from settingsTable() (the constructor reads them).
 struct ProbeSettings {

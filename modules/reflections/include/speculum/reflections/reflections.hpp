@@ -4,6 +4,7 @@
 // module's README explains the technique, its failure modes and its settings.
 #pragma once
 
+#include "speculum/app/module.hpp"
 #include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/gpu/pipeline.hpp"
@@ -20,6 +21,8 @@ namespace speculum::reflections {
 // The module's settings table (reflections.*): the one description that drives JSON, --set,
 // the editor and the tests.
 std::vector<SettingDesc> settingsTable();
+// What the module registers with its host: the table, its AOVs, its debug views.
+app::ModuleInfo moduleInfo();
 
 enum class TraceMode : uint32_t { HiZ = 0, Linear = 1 };
 // How much of a pixel screen space covers: `hit` (a hit covers fully, fades aside) or
@@ -92,12 +95,11 @@ public:
     Reflections(const Reflections&) = delete;
     Reflections& operator=(const Reflections&) = delete;
 
-    // Adds reflections.* passes after render.lighting. `hizView` adds the Hi-Z level view.
+    // Adds reflections.* passes after render.lighting, which must leave the specular ambient of
+    // reflective pixels to the module (LightingOptions::moduleSpecular): the composite adds it.
+    // `hizView` adds the Hi-Z level view.
     ReflectionOutputs addPasses(FrameGraph& graph, const ReflectionInputs& inputs,
                                 const ReflectionSettings& settings, bool hizView = false);
-    // Off: render.lighting keeps the specular ambient of reflective pixels and the history is
-    // forgotten; on: the module composites it (the default once constructed).
-    void setActive(bool active);
     // Forgets the previous frame (camera cuts, scene changes): the next colour pyramid is built
     // from that frame's own lit image.
     void resetHistory();
