@@ -54,19 +54,24 @@ vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
     return p + r * t - pr.center.xyz;
 }
 
-// rgb: the probes' blended radiance (already weighted), a: their total weight (at most 1).
+// rgb: the probes' blended radiance (already weighted), a: the weight of what they captured
+// (at most 1). A cube's alpha is its coverage by geometry (0 where the probe saw the sky, which
+// is infinitely far and goes to the caller's sky along r instead), its rgb premultiplied by it;
+// the caller gives 1 - a to the sky.
 vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness) {
     vec3 sum = vec3(0.0);
+    float covered = 0.0;
     float total = 0.0;
     for (uint i = 0u; i < count; ++i) {
         Probe pr = probes[i];
-        float w = min(probeInfluence(pr, p, n), 1.0 - total);
-        vec3 c = textureLod(probeCubes, vec4(probeDirection(pr, p, r), pr.params.x), roughness * pr.params.y).rgb;
-        sum += c * max(w, 0.0);
-        total += max(w, 0.0);
+        float w = max(min(probeInfluence(pr, p, n), 1.0 - total), 0.0);
+        vec4 c = textureLod(probeCubes, vec4(probeDirection(pr, p, r), pr.params.x), roughness * pr.params.y);
+        sum += c.rgb * w;
+        covered += c.a * w;
+        total += w;
         if (total >= 0.999) break;
     }
-    return vec4(sum, total);
+    return vec4(sum, covered);
 }
 
 #endif

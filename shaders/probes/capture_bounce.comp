@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // probes.capture_bounce: the specular ambient of reflective surfaces in a probe's face, from the
 // previous bake of the probes and then the sky (the fallback chain without screen space), so
-// that reflections of reflective surfaces accumulate one bounce per bake. render.lighting left
+// that reflections of reflective surfaces accumulate one bounce per bake. Sky pixels are left
+// out (alpha 0): the lookup takes the real sky there. render.lighting left
 // this term out for them (kFlagReflective), as it does when the reflections module runs.
 #define PROBES_BUFFER_BINDING 6
 #define PROBES_CUBES_BINDING 7
@@ -47,5 +48,8 @@ void main() {
         vec2 dfg = textureLod(dfgTex, vec2(clamp(dot(n, v), 0.0, 1.0), nr.w), 0.0).rg;
         color += radiance * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);
     }
-    imageStore(outLit, pixel, vec4(color, 1.0));
+    // The sky is infinitely far: the probe leaves it out (rgb 0, alpha 0) and the lookup takes the
+    // sky itself along the unprojected ray there (sampleProbes), which no box or sphere proxy
+    // can place right. Alpha is the probe's coverage; rgb is premultiplied by it.
+    imageStore(outLit, pixel, depth > 0.0 ? vec4(color, 1.0) : vec4(0.0));
 }
