@@ -84,7 +84,7 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
         .deviceName = device, .instanceExtensions = app::Window::requiredExtensions(), .swapchain = true});
     render::Renderer renderer(ctx, scene);
     // The sample plays with the module's defaults; the editor is where settings change.
-    Settings settings(reflections::settingsTable());
+    Settings settings(app::settingsOf({}, {probes::moduleInfo(), reflections::moduleInfo()}));
     probes::Probes probeModule(ctx, renderer);
     reflections::Reflections module(ctx, renderer);
     app::Swapchain swapchain(ctx, window);

@@ -130,3 +130,54 @@ void Probes::Impl::prefilter(size_t index) {
 }
 
 }  // namespace speculum::probes
+
+namespace speculum::probes {
+
+TextureHandle Probes::addDebugView(FrameGraph& graph, const render::GBuffer& gbuffer, const render::FrameInputs& frame,
+                                   const ProbeSet& set, DebugView view) {
+    Impl& m = *impl_;
+    std::optional<gpu::Pipeline>& pipeline = m.debug[size_t(view)];
+    if (!pipeline) {
+        constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipeline = gpu::createComputePipeline(m.ctx, "probes/debug.comp",
+                                              {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
+                                               {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kCompute}},
+                                              sizeof(BouncePush), "probes.debug", {uint32_t(view)});
+    }
+    struct Data {
+        TextureHandle depth, normal, cubes, out;
+        BufferHandle records;
+    };
+    const float invExposure = 1.0f / std::max(m.renderer.options().exposure, 1e-6f);
+    const gpu::Pipeline* p = &*pipeline;
+    const auto& d = graph.addPass<Data>(
+        "probes.debug", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.depth = b.read(gbuffer.depth, TextureUsage::Sampled);
+            data.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
+            data.cubes = b.read(set.cubes, TextureUsage::Sampled);
+            data.records = b.read(set.records, BufferUsage::StorageRead);
+            data.out = b.write(b.create("probes.debug", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
+        },
+        [&m, p, frame, count = set.count, invExposure](const Data& data, PassContext& pc) {
+            VkExtent2D e = pc.extent(data.out);
+            p->bind(pc.cmd());
+            gpu::DescriptorWriter()
+                .sampled(0, pc.view(data.depth), m.nearest)
+                .sampled(1, pc.view(data.normal), m.nearest)
+                .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.records))
+                .sampled(3, pc.view(data.cubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), m.sampler)
+                .storage(4, pc.view(data.out))
+                .push(m.ctx, pc.cmd(), *p);
+            BouncePush push{frame.camera.invViewProj, glm::vec4(frame.camera.position, invExposure),
+                            glm::uvec4(e.width, e.height, count, 0u)};
+            vkCmdPushConstants(pc.cmd(), p->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+            vkCmdDispatch(pc.cmd(), (e.width + 7) / 8, (e.height + 7) / 8, 1);
+        });
+    return d.out;
+}
+
+}  // namespace speculum::probes

@@ -26,6 +26,7 @@ struct Probes::Impl {
     gpu::Unique<VkSampler> sampler;  // trilinear clamp
     gpu::Unique<VkSampler> nearest;  // for texelFetch of the G-buffer (D32 has no linear filter here)
     gpu::Pipeline bounce;
+    std::optional<gpu::Pipeline> debug[3];  // per DebugView (a specialization constant), made on first use
     render::CubeFilter filter;
     gpu::VulkanResourceAllocator allocator;
     gpu::VulkanFrameGraphExecutor executor;

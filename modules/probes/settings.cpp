@@ -11,11 +11,14 @@ std::vector<SettingDesc> settingsTable() {
          "probe show the probes' previous bake (bounce 1 sees only the sky)."},
         {"probes.prefilter_samples", T::Int, "", 1, 1024, 64, {},
          "GGX samples per texel when prefiltering a probe's rough mips (as the sky's)."},
+        {"probes.debug_view", T::Enum, "", 0, 2, 0, {"none", "influence", "winner"},
+         "Replace the image with the probes' blend (each probe's colour times its share, the sky "
+         "dark blue) or the probe with the largest share."},
     };
 }
 
 app::ModuleInfo moduleInfo() {
-    return {"probes", settingsTable(), {}, "", ""};
+    return {"probes", settingsTable(), {}, "probes.debug_view", ""};
 }
 
 ProbeSettings::ProbeSettings() : ProbeSettings(from(Settings(settingsTable()))) {}
@@ -24,6 +27,7 @@ ProbeSettings ProbeSettings::from(const Settings& s) {
     ProbeSettings p{Blank{}};
     p.bounces = s.getInt("probes.bounces");
     p.prefilterSamples = s.getInt("probes.prefilter_samples");
+    p.debugView = DebugView(s.getInt("probes.debug_view"));
     return p;
 }
 

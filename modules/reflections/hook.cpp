@@ -7,6 +7,10 @@ namespace speculum::reflections {
 app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
                      const render::FrameInputs& frame) {
     ReflectionSettings s = ReflectionSettings::from(settings);
+    // The probes' debug view, when the host's settings carry the probes' table.
+    probes::DebugView probeView = probes && settings.find("probes.debug_view")
+                                      ? probes::DebugView(settings.getInt("probes.debug_view"))
+                                      : probes::DebugView::None;
     app::LitHook hook;
     hook.modules = {moduleInfo()};
     if (probes) hook.modules.insert(hook.modules.begin(), probes::moduleInfo());
@@ -17,7 +21,7 @@ app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings
         hook.addPasses = [](FrameGraph&, const render::GBuffer&, TextureHandle lit, app::ModuleAovs&) { return lit; };
         return hook;
     }
-    hook.addPasses = [&module, probes, s, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
+    hook.addPasses = [&module, probes, s, frame, probeView](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
                                                  app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;
         bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
@@ -29,6 +33,7 @@ app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings
         // xy hit pixel, z hit depth (< 0: the miss code of shaders/reflections/trace.comp), w iterations.
         aovs.provided["hit"] = {out.hit, 4};
         if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
+        if (probeView != probes::DebugView::None) return probes->addDebugView(graph, gbuffer, frame, set, probeView);
         return out.lit;
     };
     return hook;

@@ -578,3 +578,46 @@ TEST_F(ProbesGpu, TimeSlicedUpdatesEqualTheOnceBakedCubeAfterSixFrames) {
         EXPECT_LE(worst, 1e-4f) << "mip " << mip;
     }
 }
+
+// 6. The probes' debug views (probes.debug_view): on the gallery's main view nearly every pixel
+// that sees geometry lies in the hall probe's box, so `influence` and `winner` both show that
+// probe's palette colour at full share (probe 0: 0.5 + 0.5 cos(2 pi (0, 1/3, 2/3)) = (1, 0.25,
+// 0.25), divided by the exposure as every debug view is) and the sky pixels are black. The rest
+// (94 of 12.5k pixels at 160x90, under 1%) lie in the walls' thickness around the windows, outside
+// the box, where the blend zone and the normal fade take weight away.
+TEST_F(ProbesGpu, DebugViewsShowTheOnlyProbeEverywhereInsideIt) {
+    const uint32_t w = 160, h = 90;
+    Scene scene = loadAsset("gallery");
+    Settings settings(app::settingsOf(app::engineSettingsTable(), {probes::moduleInfo(), reflections::moduleInfo()}));
+    render::RendererOptions ro;
+    app::applyRenderSettings(settings, ro);
+    render::Renderer renderer(*ctx_, scene, ro);
+    probes::Probes probeModule(*ctx_, renderer, probes::ProbeSettings::from(settings));
+    reflections::Reflections module(*ctx_, renderer);
+    app::FrameRunner runner(*ctx_, renderer, w, h);
+    render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
+    render::FrameInputs frame{cam, cam};
+    probeModule.update();
+    const glm::vec3 expected = glm::vec3(1.0f, 0.25f, 0.25f) / renderer.options().exposure;
+    for (const char* view : {"influence", "winner"}) {
+        settings.set("probes.debug_view", view);
+        app::FrameResult res =
+            runner.render(frame, {"linear", "depth"}, reflections::litHook(module, &probeModule, settings, frame));
+        const std::vector<float>& img = res.aovs.at("linear").rgba;
+        const std::vector<float>& depth = res.aovs.at("depth").rgba;
+        size_t geometry = 0, wrong = 0, sky = 0, skyWrong = 0;
+        for (size_t i = 0; i < size_t(w) * h; ++i) {
+            glm::vec3 c(img[i * 4], img[i * 4 + 1], img[i * 4 + 2]);
+            if (depth[i * 4] > 0.0f) {
+                ++geometry;
+                wrong += glm::length(c - expected) > 0.01f * glm::length(expected);
+            } else {
+                ++sky;
+                skyWrong += glm::length(c) > 0.0f;
+            }
+        }
+        EXPECT_GT(geometry, size_t(w) * h / 2) << view;
+        EXPECT_LE(double(wrong), 0.01 * double(geometry)) << view << ": pixels not in the probe's colour, of " << geometry;
+        EXPECT_EQ(skyWrong, 0u) << view << ": sky pixels not black, of " << sky;
+    }
+}

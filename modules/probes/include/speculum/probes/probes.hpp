@@ -27,6 +27,8 @@ std::vector<SettingDesc> settingsTable();
 // What the module registers with its host.
 app::ModuleInfo moduleInfo();
 
+enum class DebugView : uint32_t { None = 0, Influence = 1, Winner = 2 };
+
 // Defaults come from settingsTable() (the constructor reads them).
 struct ProbeSettings {
     ProbeSettings();
@@ -34,6 +36,7 @@ struct ProbeSettings {
 
     int bounces;           // bakes of every probe at start, each seeing the previous one
     int prefilterSamples;  // GGX samples per texel of the rough mips
+    DebugView debugView;
 
 private:
     struct Blank {};
@@ -95,6 +98,10 @@ public:
     void requestUpdate(int probe = -1);
     // Imports the cube array and the records into `graph` (count 0 when `enabled` is false).
     ProbeSet addPasses(FrameGraph& graph, bool enabled = true);
+    // probes.debug: the blend or the winning probe per pixel (DebugView), scaled by 1 / exposure
+    // like every debug view; returns the image that replaces the lit one.
+    TextureHandle addDebugView(FrameGraph& graph, const render::GBuffer& gbuffer, const render::FrameInputs& frame,
+                               const ProbeSet& set, DebugView view);
 
     const std::vector<ProbeInfo>& probes() const;
     // The cube array (tests): face size, mips, cubes.
