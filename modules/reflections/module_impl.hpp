@@ -9,24 +9,17 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
+
+#include "reflections/frame.h"
+
 namespace speculum::reflections {
 
-// std140 twin of ReflectionFrame in shaders/reflections/common.glsl.
-struct FrameUniforms {
-    glm::mat4 viewProj;
-    glm::mat4 invViewProj;
-    glm::mat4 prevViewProj;
-    glm::mat4 view;
-    glm::vec4 camera;
-    glm::vec4 size;
-    glm::vec4 trace;
-    glm::vec4 trace2;
-    glm::vec4 cone;
-    glm::vec4 fade;
-    glm::vec4 fade2;
-    glm::uvec4 modes;
-    glm::uvec4 modes2;
-};
+// The frame uniforms, declared once for C++ and GLSL (shaders/reflections/frame.h).
+using FrameUniforms = shader::ReflectionFrame;
+static_assert(offsetof(FrameUniforms, eye) == 256 && offsetof(FrameUniforms, znear) == 268);
+static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, maxIterations) == 288);
+static_assert(offsetof(FrameUniforms, traceMode) == 368 && sizeof(FrameUniforms) == 400, "std140 layout");
 
 // The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
 // them and knows whether the previous one was written).

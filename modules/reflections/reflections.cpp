@@ -113,23 +113,39 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.invViewProj = cam.invViewProj;
     u.prevViewProj = in.frame.previousCamera.viewProj;
     u.view = cam.view;
-    u.camera = glm::vec4(cam.position, cam.znear);
+    u.eye = cam.position;
+    u.znear = cam.znear;
     u.size = glm::vec4(float(w), float(h), 1.0f / float(w), 1.0f / float(h));
-    u.trace = glm::vec4(float(s.maxIterations), float(s.linearPreSteps), float(s.hizStartLevel),
-                        float(s.hizStopLevel));
-    u.trace2 = glm::vec4(s.thickness, s.linearStride, float(s.linearMaxSteps), float(s.refineSteps));
+    u.maxIterations = float(s.maxIterations);
+    u.linearPreSteps = float(s.linearPreSteps);
+    u.hizStartLevel = float(s.hizStartLevel);
+    u.hizStopLevel = float(s.hizStopLevel);
+    u.thickness = s.thickness;
+    u.linearStride = s.linearStride;
+    u.linearMaxSteps = float(s.linearMaxSteps);
+    u.refineSteps = float(s.refineSteps);
+    u.coneSamples = float(s.coneSamples);
+    // Screen space off: a limit below every roughness, so nothing is traced and coverage is 0.
+    u.maxRoughness = s.screenSpace ? s.maxRoughness : -1.0f;
+    u.envMaxMip = float(renderer.environment().mipCount() - 1);
     // Radians per pixel at the image centre: a sphere of r pixels at view distance z has a
     // world radius of about r * z * pixelAngle.
-    float pixelAngle = 2.0f * std::tan(cam.yfov * 0.5f) / float(h);
-    float envMaxMip = float(renderer.environment().mipCount() - 1);
-    // Screen space off: a limit below every roughness, so nothing is traced and coverage is 0.
-    u.cone = glm::vec4(float(s.coneSamples), s.screenSpace ? s.maxRoughness : -1.0f, envMaxMip, pixelAngle);
-    u.fade = glm::vec4(s.edgeFade, s.cameraFadeStart, s.cameraFadeEnd, s.distanceFadeStart);
-    float exposure = std::max(renderer.options().exposure, 1e-6f);
-    u.fade2 = glm::vec4(s.distanceFadeEnd, float(s.debugHizMip), 1.0f / exposure, 0.0f);
-    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid() ? 1u : 0u, levels);
-    uint32_t probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
-    u.modes2 = glm::uvec4(uint32_t(s.debugView), s.multiBounce ? 1u : 0u, materialCount, probeCount);
+    u.pixelAngle = 2.0f * std::tan(cam.yfov * 0.5f) / float(h);
+    u.edgeFade = s.edgeFade;
+    u.cameraFadeStart = s.cameraFadeStart;
+    u.cameraFadeEnd = s.cameraFadeEnd;
+    u.distanceFadeStart = s.distanceFadeStart;
+    u.distanceFadeEnd = s.distanceFadeEnd;
+    u.debugHizMip = float(s.debugHizMip);
+    u.invExposure = 1.0f / std::max(renderer.options().exposure, 1e-6f);
+    u.traceMode = uint32_t(s.trace);
+    u.coverageMode = uint32_t(s.coverage);
+    u.historyValid = history.valid() ? 1u : 0u;
+    u.hizLevels = levels;
+    u.debugView = uint32_t(s.debugView);
+    u.multiBounce = s.multiBounce ? 1u : 0u;
+    u.materialCount = materialCount;
+    u.probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 

@@ -7,24 +7,8 @@
 
 #include "common/camera.glsl"
 
-// std140 twin of FrameUniforms in modules/reflections/passes.hpp.
-layout(set = 0, binding = 0, std140) uniform ReflectionFrame {
-    mat4 viewProj;
-    mat4 invViewProj;
-    mat4 prevViewProj;
-    mat4 view;
-    vec4 camera;    // xyz eye, w znear
-    vec4 size;      // width, height, 1 / width, 1 / height
-    vec4 trace;     // max iterations, linear pre-steps, Hi-Z start level, Hi-Z stop level
-    vec4 trace2;    // thickness, linear stride (px), linear max steps, refine steps
-    vec4 cone;      // cone samples, max roughness, environment max mip, pixel angle (rad / px)
-    vec4 fade;      // edge fade, camera fade start, camera fade end, distance fade start
-    vec4 fade2;     // distance fade end, debug Hi-Z mip, 0, 0
-    // The trace mode and the debug view are also the trace's and the composite's specialization
-    // constants; the shaders read those.
-    uvec4 modes;    // trace mode (0 hiz, 1 linear), coverage (0 hit, 1 visibility), history valid, Hi-Z levels
-    uvec4 modes2;   // debug view, multi-bounce, material count, local probe count
-} rf;
+// The frame uniforms, `rf`: declared once for C++ and GLSL.
+#include "reflections/frame.h"
 
 // Per material (index in the G-buffer's flags): mode, roughness scale, roughness override
 // (< 0: none), max screen-space roughness.
@@ -42,7 +26,7 @@ const uint kModeScreenSpace = 1u;
 
 // Depth 0 is infinitely far: distances are capped where float still orders them.
 float linearDepth(float d) {
-    return rf.camera.w / max(d, 1e-9);
+    return rf.znear / max(d, 1e-9);
 }
 
 vec3 worldAt(vec2 pixel, float depth) {
@@ -65,19 +49,19 @@ ivec2 hizLevelSize(int level) {
 // Fades shared by the resolve (weights) and the trace (which skips what they zero).
 // cosAway: cosine between the reflected ray and the view direction (< 0 toward the camera).
 float cameraFade(float cosAway) {
-    float span = rf.fade.y - rf.fade.z;
-    return span > 0.0 ? clamp((cosAway - rf.fade.z) / span, 0.0, 1.0) : (cosAway >= rf.fade.y ? 1.0 : 0.0);
+    float span = rf.cameraFadeStart - rf.cameraFadeEnd;
+    return span > 0.0 ? clamp((cosAway - rf.cameraFadeEnd) / span, 0.0, 1.0) : (cosAway >= rf.cameraFadeStart ? 1.0 : 0.0);
 }
 
 // dist: world distance from the reflecting point to the hit.
 float distanceFade(float dist) {
-    float span = rf.fade2.x - rf.fade.w;
-    return span > 0.0 ? 1.0 - clamp((dist - rf.fade.w) / span, 0.0, 1.0) : (dist <= rf.fade.w ? 1.0 : 0.0);
+    float span = rf.distanceFadeEnd - rf.distanceFadeStart;
+    return span > 0.0 ? 1.0 - clamp((dist - rf.distanceFadeStart) / span, 0.0, 1.0) : (dist <= rf.distanceFadeStart ? 1.0 : 0.0);
 }
 
 // The world distance from which distanceFade is 0.
 float distanceFadeEnd() {
-    return rf.fade2.x > rf.fade.w ? rf.fade2.x : rf.fade.w;
+    return rf.distanceFadeEnd > rf.distanceFadeStart ? rf.distanceFadeEnd : rf.distanceFadeStart;
 }
 
 bool finite3(vec3 v) {

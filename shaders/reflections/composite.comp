@@ -34,12 +34,12 @@ vec3 heat(float x) {
 vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
     vec3 dim = vec3(dot(lit, vec3(0.2126, 0.7152, 0.0722)) * 0.15);
     vec4 hit = texelFetch(hitTex, pixel, 0);
-    if (view == 1u) return reflective ? heat(hit.w / max(rf.trace.x, 1.0)) : dim;
+    if (view == 1u) return reflective ? heat(hit.w / max(rf.maxIterations, 1.0)) : dim;
     if (view == 2u) return reflective ? (hit.z > 0.0 ? vec3(0.1, 0.9, 0.1) : vec3(0.9, 0.1, 0.1)) : dim;
     if (view == 3u) return reflective ? vec3(texelFetch(reflectionTex, pixel, 0).a) : dim;
     if (view == 4u) return reflective ? texelFetch(methodTex, pixel, 0).rgb : dim;
     if (view == 5u) {
-        int level = min(int(rf.fade2.y), int(rf.modes.w) - 1);
+        int level = min(int(rf.debugHizMip), int(rf.hizLevels) - 1);
         ivec2 cell = min(pixel >> level, hizLevelSize(level) - 1);
         vec2 mm = texelFetch(hiz, cell, level).rg;
         // log2 distance over 2^-2 .. 2^8 m: near is red, far is blue; x farthest, y closest.
@@ -63,7 +63,7 @@ void main() {
     if (reflective) {
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec3 p = worldAt(vec2(pixel) + 0.5, depth);
-        vec3 v = normalize(rf.camera.xyz - p);
+        vec3 v = normalize(rf.eye - p);
         float NoV = clamp(dot(normalize(normalRough.xyz), v), 0.0, 1.0);
         vec2 dfg = textureLod(dfgTex, vec2(NoV, m.roughness), 0.0).rg;
         vec3 f0 = specularF0(albedo.rgb, albedo.a);
@@ -72,7 +72,7 @@ void main() {
     // Debug colours are divided by the exposure so that they reach the screen near their value.
     if (kDebugView != 0u) {
         imageStore(plainOut, pixel, vec4(color, 1.0));
-        color = debugView(kDebugView, pixel, reflective, lit) * rf.fade2.z;
+        color = debugView(kDebugView, pixel, reflective, lit) * rf.invExposure;
     }
     imageStore(dst, pixel, vec4(color, 1.0));
 }

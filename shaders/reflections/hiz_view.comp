@@ -12,7 +12,7 @@ layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D dst;
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
-    int level = min(int(rf.fade2.y), int(rf.modes.w) - 1);
+    int level = min(int(rf.debugHizMip), int(rf.hizLevels) - 1);
     ivec2 cell = min(pixel >> level, hizLevelSize(level) - 1);
     vec2 mm = texelFetch(hiz, cell, level).rg;
     // 65504 is the largest half float: the sky's infinite distance saturates there.

@@ -18,12 +18,12 @@ struct PixelMaterial {
 PixelMaterial pixelMaterial(float flagsValue, float gbufferRoughness) {
     uint flags = uint(flagsValue);
     PixelMaterial m;
-    uint index = min(flags >> kMaterialIndexShift, rf.modes2.z - 1u);
+    uint index = min(flags >> kMaterialIndexShift, rf.materialCount - 1u);
     vec4 p = materials[index];
     m.reflective = (flags & kFlagReflective) != 0u && (flags & kFlagUnlit) == 0u && uint(p.x) != kModeOff;
     m.screenSpace = uint(p.x) == kModeScreenSpace;
     m.roughness = clamp(p.z >= 0.0 ? p.z : gbufferRoughness * p.y, 0.0, 1.0);
-    m.maxScreenSpace = min(p.w, rf.cone.y);
+    m.maxScreenSpace = min(p.w, rf.maxRoughness);
     return m;
 }
 

@@ -20,7 +20,7 @@ void main() {
     if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
     vec3 current = texelFetch(litTex, pixel, 0).rgb;
     vec3 color = current;
-    if (rf.modes.z != 0u && rf.modes2.y != 0u) {
+    if (rf.historyValid != 0u && rf.multiBounce != 0u) {
         vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
         float depth = texelFetch(depthTex, pixel, 0).r;
         vec2 prevUV;

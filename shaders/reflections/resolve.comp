@@ -47,12 +47,12 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
     if (tanTheta <= 0.0 || len < 1.0) return mirror;
     vec2 u = delta / len;
     float maxMip = float(textureQueryLevels(colorPyramid) - 1);
-    int maxLevel = int(rf.modes.w) - 1;
+    int maxLevel = int(rf.hizLevels) - 1;
     float adjacent = len;
     vec3 sum = vec3(0.0);
     float total = 0.0;
     vec3 first = mirror;
-    int samples = int(rf.cone.x);
+    int samples = int(rf.coneSamples);
     for (int i = 0; i < samples; ++i) {
         float r = incircleRadius(2.0 * tanTheta * adjacent, adjacent);
         vec2 pos = start + u * (adjacent - r);
@@ -63,7 +63,7 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
         float vis = cv.a;
         // Depth is affine along the screen-space ray, so the sample's ray depth interpolates.
         float zRay = linearDepth(mix(startDepth, hit.z, (adjacent - r) / len));
-        float radius = r * zRay * rf.cone.w;
+        float radius = r * zRay * rf.pixelAngle;
         int level = clamp(int(round(mip)), 0, maxLevel);
         ivec2 cell = min(ivec2(pos) >> level, hizLevelSize(level) - 1);
         float zNear = linearDepth(texelFetch(hiz, cell, level).g);
@@ -82,7 +82,7 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
 float edgeFade(vec2 hitPx) {
     vec2 uv = hitPx * rf.size.zw;
     float edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
-    return rf.fade.x > 0.0 ? clamp(edge / rf.fade.x, 0.0, 1.0) : 1.0;
+    return rf.edgeFade > 0.0 ? clamp(edge / rf.edgeFade, 0.0, 1.0) : 1.0;
 }
 
 void main() {
@@ -96,12 +96,12 @@ void main() {
     if (depth > 0.0 && m.reflective) {
         vec2 px = vec2(pixel) + 0.5;
         vec3 p = worldAt(px, depth);
-        vec3 v = normalize(p - rf.camera.xyz);
+        vec3 v = normalize(p - rf.eye);
         vec3 r = reflect(v, normalize(normalRough.xyz));
         // The fallback chain beyond screen space: local probes, then the sky.
         vec3 n = normalize(normalRough.xyz);
-        vec4 probe = sampleProbes(rf.modes2.w, p, n, r, m.roughness);
-        vec3 sky = textureLod(envSpecular, r, m.roughness * rf.cone.z).rgb;
+        vec4 probe = sampleProbes(rf.probeCount, p, n, r, m.roughness);
+        vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
         vec3 env = probe.rgb + (1.0 - probe.a) * sky;
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
@@ -112,7 +112,7 @@ void main() {
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
                           distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
-            coverage = clamp((rf.modes.y == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
+            coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
         }
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;

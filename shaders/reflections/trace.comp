@@ -39,7 +39,7 @@ ScreenRay screenRay(vec2 px, float depth, vec3 p, vec3 r) {
     float away = -(mat3(rf.view) * r).z;
     // Rays toward the camera end just before the near plane; others far enough that their end
     // point is the vanishing point to well under a pixel.
-    float len = away < -1e-6 ? max((z - 1.5 * rf.camera.w) / -away, 0.0) : 1000.0 * z + 1000.0;
+    float len = away < -1e-6 ? max((z - 1.5 * rf.znear) / -away, 0.0) : 1000.0 * z + 1000.0;
     ScreenRay ray;
     ray.pixel = ivec2(floor(px));
     ray.o = vec3(px, depth);
@@ -65,7 +65,7 @@ ScreenRay screenRay(vec2 px, float depth, vec3 p, vec3 r) {
 // A surface occupies depths [farthest * occupiedFarScale(), closest] (the thickness model).
 // Callers take it once per ray: a division per cell test or step costs a CPU driver 3%.
 float occupiedFarScale() {
-    return 1.0 / (1.0 + rf.trace2.x);
+    return 1.0 / (1.0 + rf.thickness);
 }
 
 // The t at which the ray enters the occupied interval [lo, hi] of a cell, within [t0, t1].
@@ -214,9 +214,9 @@ bool offScreen(ivec2 pix) {
 // Uludag's listing. The loop only breaks, never returns: lavapipe runs every branch of a loop
 // body for the whole vector, so work that belongs after the hit (refinement) sits outside it.
 vec3 traceHiZ(ScreenRay ray) {
-    int maxLevel = int(rf.modes.w) - 1;
-    int preSteps = int(rf.trace.y);
-    int stopLevel = min(int(rf.trace.w), maxLevel);
+    int maxLevel = int(rf.hizLevels) - 1;
+    int preSteps = int(rf.linearPreSteps);
+    int stopLevel = min(int(rf.hizStopLevel), maxLevel);
     // Finite for axes the ray does not move along: their exit t is then far past tMax.
     vec2 invD = vec2(ray.d.x != 0.0 ? 1.0 / ray.d.x : 3.0e38, ray.d.y != 0.0 ? 1.0 / ray.d.y : 3.0e38);
     float invDz = ray.d.z != 0.0 ? 1.0 / ray.d.z : 0.0;
@@ -226,8 +226,8 @@ vec3 traceHiZ(ScreenRay ray) {
     ivec2 pix = crossExit(ray, origin, pixelAt(ray, origin, ray.pixel, origin.tExit));
     if (offScreen(pix)) return vec3(0.0, -3.0, 0.0);
     float t = origin.tExit;
-    int level = preSteps > 0 ? 0 : min(int(rf.trace.z), maxLevel);
-    int maxIterations = int(rf.trace.x);
+    int level = preSteps > 0 ? 0 : min(int(rf.hizStartLevel), maxLevel);
+    int maxIterations = int(rf.maxIterations);
     float status = -4.0;
     // Up only into a parent the ray crosses whole along its major axis (it enters at the
     // parent's first child that way): a parent entered half-way spans children beside the rest
@@ -266,7 +266,7 @@ vec3 traceHiZ(ScreenRay ray) {
         bool firstChild = (((xMajor ? pix.x : pix.y) >> level) & 1) == firstChildBit;
         level = overlap ? level - 1
               : it + 1 < preSteps ? 0
-              : it + 1 == preSteps ? min(int(rf.trace.z), maxLevel)
+              : it + 1 == preSteps ? min(int(rf.hizStartLevel), maxLevel)
               : firstChild ? min(level + 1, maxLevel) : level;
     }
     return vec3(t, status, float(min(it + 1, maxIterations)));
@@ -290,9 +290,9 @@ bool behind(ScreenRay ray, float farScale, float t, out bool inside) {
 vec3 traceLinear(ScreenRay ray) {
     float major = max(abs(ray.d.x), abs(ray.d.y));
     if (major <= 0.0) return vec3(0.0, -1.0, 0.0);
-    float dt = rf.trace2.y / major;
+    float dt = rf.linearStride / major;
     float farScale = occupiedFarScale();
-    int maxSteps = int(rf.trace2.z);
+    int maxSteps = int(rf.linearMaxSteps);
     float status = -1.0;
     int i = 1;
     for (; i <= maxSteps; ++i) {
@@ -307,7 +307,7 @@ vec3 traceLinear(ScreenRay ray) {
     }
     if (status < 0.0) return vec3(0.0, status, float(min(i, maxSteps)));
     float a = float(i - 1) * dt, b = float(i) * dt;
-    int refine = int(rf.trace2.w);
+    int refine = int(rf.refineSteps);
     for (int k = 0; k < refine; ++k) {
         float m = 0.5 * (a + b);
         bool unused;
@@ -326,7 +326,7 @@ void main() {
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
     vec2 px = vec2(pixel) + 0.5;
     vec3 p = worldAt(px, depth);
-    vec3 v = normalize(p - rf.camera.xyz);
+    vec3 v = normalize(p - rf.eye);
     vec3 r = reflect(v, normalize(normalRough.xyz));
     // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).
     bool visible = cameraFade(dot(r, v)) > 0.0;

@@ -78,7 +78,9 @@ def main():
 
         capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection")
         plain, hit, method, reflection = (aov("none", n) for n in ("linear", "hit", "method", "reflection"))
-        reflective = [[method["R"][y][x] + method["B"][y][x] > 0.5 for x in range(w)] for y in range(h)]
+        # The chain's weights (screen space, probes, sky) sum to 1 on reflective pixels, 0 elsewhere.
+        reflective = [[method["R"][y][x] + method["G"][y][x] + method["B"][y][x] > 0.5 for x in range(w)]
+                      for y in range(h)]
         count = sum(map(sum, reflective))
         if count < w * h // 10:
             failures.append(f"only {count} reflective pixels: the scene no longer tests the views")

@@ -1,0 +1,71 @@
+// The reflections module's per-frame uniform block, declared once for C++ (modules/reflections,
+// which fills it) and GLSL (shaders/reflections/common.glsl, which reads it as `rf`), with one
+// named field per value. std140: the matrices and `size` sit at 16-byte boundaries, `znear`
+// fills `eye`'s fourth word, and the scalars pack four to a row, which C++ lays out alike
+// (static_asserts in modules/reflections/module_impl.hpp).
+#ifndef SPECULUM_REFLECTIONS_FRAME_H
+#define SPECULUM_REFLECTIONS_FRAME_H
+
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+
+#include <cstdint>
+namespace speculum::reflections::shader {
+using mat4 = glm::mat4;
+using vec4 = glm::vec4;
+using vec3 = glm::vec3;
+using uint = uint32_t;
+#define SPECULUM_REFLECTION_FRAME_BEGIN struct ReflectionFrame
+#define SPECULUM_REFLECTION_FRAME_END
+#else
+#define SPECULUM_REFLECTION_FRAME_BEGIN layout(set = 0, binding = 0, std140) uniform ReflectionFrame
+#define SPECULUM_REFLECTION_FRAME_END rf
+#endif
+
+SPECULUM_REFLECTION_FRAME_BEGIN {
+    mat4 viewProj;
+    mat4 invViewProj;
+    mat4 prevViewProj;
+    mat4 view;
+    vec3 eye;
+    float znear;
+    vec4 size;  // width, height, 1 / width, 1 / height
+    // Hi-Z and linear tracing.
+    float maxIterations;
+    float linearPreSteps;
+    float hizStartLevel;
+    float hizStopLevel;
+    float thickness;
+    float linearStride;  // px
+    float linearMaxSteps;
+    float refineSteps;
+    // Cones and fades.
+    float coneSamples;
+    float maxRoughness;  // screen space up to here (below 0: screen space off)
+    float envMaxMip;
+    float pixelAngle;    // rad / px at the image centre
+    float edgeFade;
+    float cameraFadeStart;
+    float cameraFadeEnd;
+    float distanceFadeStart;
+    float distanceFadeEnd;
+    float debugHizMip;
+    float invExposure;
+    float unused0;
+    // Modes. The trace mode and the debug view are also the trace's and the composite's
+    // specialization constants; the shaders read those.
+    uint traceMode;     // 0 hiz, 1 linear
+    uint coverageMode;  // 0 hit, 1 visibility
+    uint historyValid;
+    uint hizLevels;
+    uint debugView;
+    uint multiBounce;
+    uint materialCount;
+    uint probeCount;  // local probes in the fallback chain
+} SPECULUM_REFLECTION_FRAME_END;
+
+#ifdef __cplusplus
+}  // namespace speculum::reflections::shader
+#endif
+
+#endif
