@@ -1,7 +1,11 @@
 // Every setting is described once: the settings structs take their defaults from the table. This
 // fails if a struct default and the table differ (a default written twice drifts: the struct once
 // said max_iterations 64 and hiz_start_level 2 while the table said 96 and 1).
+#include "speculum/probes/probes.hpp"
 #include "speculum/reflections/reflections.hpp"
+
+#include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -47,4 +51,38 @@ TEST(ModuleSettings, FromReadsEveryOverride) {
     EXPECT_EQ(s.maxIterations, 7);
     EXPECT_FALSE(s.probes);
     EXPECT_EQ(s.trace, reflections::TraceMode::Linear);
+}
+
+TEST(ModuleSettings, ProbeDefaultsComeFromTheTable) {
+    Settings table(probes::settingsTable());
+    probes::ProbeSettings s;
+    EXPECT_EQ(s.bounces, table.getInt("probes.bounces"));
+    EXPECT_EQ(s.prefilterSamples, table.getInt("probes.prefilter_samples"));
+    EXPECT_EQ(int(s.debugView), table.getInt("probes.debug_view"));
+    EXPECT_EQ(s.bounces, 2);
+}
+
+TEST(ModuleSettings, ProbesReadmeCarriesTheGeneratedTable) {
+    std::ifstream in(std::string(SPECULUM_SOURCE_DIR) + "/modules/probes/README.md");
+    ASSERT_TRUE(in) << "modules/probes/README.md not found";
+    std::stringstream readme;
+    readme << in.rdbuf();
+    std::string table = Settings(probes::settingsTable()).markdownTable();
+    EXPECT_NE(readme.str().find(table), std::string::npos)
+        << "modules/probes/README.md: the settings table differs from settingsTable(); paste this:\n"
+        << table;
+}
+
+TEST(ModuleSettings, ModulesRegisterTheirTablesAovsAndDebugViews) {
+    app::ModuleInfo r = reflections::moduleInfo();
+    EXPECT_EQ(r.name, "reflections");
+    EXPECT_EQ(r.settings.size(), reflections::settingsTable().size());
+    EXPECT_NE(app::aovProvider({r}, "method"), nullptr);
+    EXPECT_EQ(app::aovProvider({r}, "linear"), nullptr) << "linear is the engine's own AOV";
+    EXPECT_EQ(app::debugViews(r).front(), "none");
+    app::ModuleInfo p = probes::moduleInfo();
+    EXPECT_EQ(app::debugViews(p), (std::vector<std::string>{"none", "influence", "winner"}));
+    std::vector<SettingDesc> all = app::settingsOf({}, {p, r});
+    EXPECT_EQ(all.size(), p.settings.size() + r.settings.size());
+    EXPECT_EQ(all.front().name.rfind("probes.", 0), 0u);
 }
