@@ -115,8 +115,16 @@ int run(const Options& o) {
     nlohmann::json graph = runner.graphJson();
     for (auto& pass : graph["passes"]) pass["median_ms"] = timings.medianPassMs(pass.value("name", ""));
     app::writeText(fs::path(o.out) / "graph.json", graph.dump(2));
-    app::writeText(fs::path(o.out) / "timings.json",
-                       timings.toJson(ctx.deviceName(), w, h, gpu::persistentBytes()).dump(2));
+    nlohmann::json timing = timings.toJson(ctx.deviceName(), w, h, gpu::persistentBytes());
+    // Probe captures run in graphs of their own, outside the frame's passes: their GPU time and
+    // the prefilters' wall time, over every update of the run (warm-up included).
+    timing["probes"] = {{"count", probeModule.probes().size()},
+                        {"faces_captured", probeModule.facesCaptured()},
+                        {"capture_ms", probeModule.captureMs()}};
+    app::writeText(fs::path(o.out) / "timings.json", timing.dump(2));
+    if (probeModule.facesCaptured() > 0)
+        std::cout << "probes: " << probeModule.probes().size() << " probes, " << probeModule.facesCaptured()
+                  << " faces captured and prefiltered in " << probeModule.captureMs() << " ms\n";
     std::cout << timings.summary() << std::flush;
     if (ctx.validationEnabled() && gpu::Context::validationMessageCount() > 0) {
         logError(std::to_string(gpu::Context::validationMessageCount()) + " Vulkan validation messages");

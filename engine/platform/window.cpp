@@ -142,7 +142,7 @@ bool Swapchain::acquire() {
 }
 
 void Swapchain::addPresentPass(FrameGraph& graph, TextureHandle color) {
-    TextureDesc desc{extent_.width, extent_.height, 1.0f, format_};
+    TextureDesc desc{.width = extent_.width, .height = extent_.height, .format = format_};
     TextureHandle target = graph.importTexture(
         "game.swapchain", desc,
         {images_[image_], VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_USAGE_TRANSFER_DST_BIT});

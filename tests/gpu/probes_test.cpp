@@ -200,6 +200,37 @@ glm::dvec3 randomUnit(std::mt19937& rng) {
 
 }  // namespace
 
+namespace {
+
+// The modules composed as speculum-capture composes them (probes, then reflections), on one scene,
+// baked, at the main camera.
+struct Composed {
+    Settings settings{app::settingsOf(app::engineSettingsTable(), {probes::moduleInfo(), reflections::moduleInfo()})};
+    render::Renderer renderer;
+    probes::Probes probes;
+    reflections::Reflections reflections;
+    app::FrameRunner runner;
+    render::FrameInputs frame;
+
+    Composed(const gpu::Context& ctx, const Scene& scene, uint32_t w, uint32_t h)
+        : renderer(ctx, scene, rendererOptions(settings)), probes(ctx, renderer, probes::ProbeSettings::from(settings)),
+          reflections(ctx, renderer), runner(ctx, renderer, w, h) {
+        render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
+        frame = {cam, cam};
+        probes.update();
+    }
+    static render::RendererOptions rendererOptions(const Settings& s) {
+        render::RendererOptions ro;
+        app::applyRenderSettings(s, ro);
+        return ro;
+    }
+    app::FrameResult render(const std::vector<std::string>& aovs) {
+        return runner.render(frame, aovs, reflections::litHook(reflections, &probes, settings, frame));
+    }
+};
+
+}  // namespace
+
 class ProbesGpu : public ::testing::Test {
 protected:
     static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
@@ -402,21 +433,9 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
     const uint32_t w = 320, h = 180;
     for (const char* name : {"closed_room", "gallery", "cornell_mirrors"}) {
         Scene scene = loadAsset(name);
-        std::vector<SettingDesc> table = app::engineSettingsTable();
-        for (SettingDesc& d : probes::settingsTable()) table.push_back(std::move(d));
-        for (SettingDesc& d : reflections::settingsTable()) table.push_back(std::move(d));
-        Settings settings(std::move(table));
-        render::RendererOptions ro;
-        app::applyRenderSettings(settings, ro);
-        render::Renderer renderer(*ctx_, scene, ro);
-        probes::Probes probeModule(*ctx_, renderer, probes::ProbeSettings::from(settings));
-        reflections::Reflections module(*ctx_, renderer);
-        app::FrameRunner runner(*ctx_, renderer, w, h);
-        render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
-        render::FrameInputs frame{cam, cam};
-        probeModule.update();
-        app::FrameResult res =
-            runner.render(frame, {"method", "depth"}, reflections::litHook(module, &probeModule, settings, frame));
+        Composed c(*ctx_, scene, w, h);
+        const probes::Probes& probeModule = c.probes;
+        app::FrameResult res = c.render({"method", "depth"});
         const std::vector<float>& method = res.aovs.at("method").rgba;
         const std::vector<float>& depth = res.aovs.at("depth").rgba;
         ASSERT_EQ(probeModule.probes().size(), 1u) << name;
@@ -440,7 +459,7 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
                 probeShare += m[1];
                 if (std::string(name) != "closed_room") continue;
                 glm::vec2 ndc((x + 0.5f) / w * 2.0f - 1.0f, (y + 0.5f) / h * 2.0f - 1.0f);
-                glm::vec4 wp = cam.invViewProj * glm::vec4(ndc, d, 1.0f);
+                glm::vec4 wp = c.frame.camera.invViewProj * glm::vec4(ndc, d, 1.0f);
                 glm::vec3 lp = glm::vec3(pr.worldToLocal * glm::vec4(glm::vec3(wp) / wp.w, 1.0f));
                 glm::vec3 gap = glm::vec3(pr.extents) - glm::abs(lp);
                 if (std::min(gap.x, std::min(gap.y, gap.z)) < -1e-3f) continue;
@@ -588,21 +607,11 @@ TEST_F(ProbesGpu, TimeSlicedUpdatesEqualTheOnceBakedCubeAfterSixFrames) {
 TEST_F(ProbesGpu, DebugViewsShowTheOnlyProbeEverywhereInsideIt) {
     const uint32_t w = 160, h = 90;
     Scene scene = loadAsset("gallery");
-    Settings settings(app::settingsOf(app::engineSettingsTable(), {probes::moduleInfo(), reflections::moduleInfo()}));
-    render::RendererOptions ro;
-    app::applyRenderSettings(settings, ro);
-    render::Renderer renderer(*ctx_, scene, ro);
-    probes::Probes probeModule(*ctx_, renderer, probes::ProbeSettings::from(settings));
-    reflections::Reflections module(*ctx_, renderer);
-    app::FrameRunner runner(*ctx_, renderer, w, h);
-    render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
-    render::FrameInputs frame{cam, cam};
-    probeModule.update();
-    const glm::vec3 expected = glm::vec3(1.0f, 0.25f, 0.25f) / renderer.options().exposure;
+    Composed c(*ctx_, scene, w, h);
+    const glm::vec3 expected = glm::vec3(1.0f, 0.25f, 0.25f) / c.renderer.options().exposure;
     for (const char* view : {"influence", "winner"}) {
-        settings.set("probes.debug_view", view);
-        app::FrameResult res =
-            runner.render(frame, {"linear", "depth"}, reflections::litHook(module, &probeModule, settings, frame));
+        c.settings.set("probes.debug_view", view);
+        app::FrameResult res = c.render({"linear", "depth"});
         const std::vector<float>& img = res.aovs.at("linear").rgba;
         const std::vector<float>& depth = res.aovs.at("depth").rgba;
         size_t geometry = 0, wrong = 0, sky = 0, skyWrong = 0;

@@ -104,7 +104,8 @@ TEST(FrameGraphSizes, TextureSizedRelativeToAnotherTexture) {
     TextureHandle imported = fg.importTexture("test.import", {.width = 317, .height = 181}, {});
     addPass(fg, "test.sizes", [&](PassBuilder& b) {
         full = b.write(b.create("test.full", {.width = 641, .height = 359}), TextureUsage::StorageWrite);
-        half = b.write(b.create("test.half", {.relativeScale = 0.5f, .relativeTo = full}), TextureUsage::StorageWrite);
+        half = b.write(b.create("test.half", TextureDesc{.relativeScale = 0.5f, .relativeTo = full}),
+                       TextureUsage::StorageWrite);
         quarterOfImport = b.write(b.create("test.quarter", {.relativeScale = 0.25f, .relativeTo = imported}),
                                   TextureUsage::StorageWrite);
         output = b.write(b.create("test.output", {.relativeScale = 0.5f}), TextureUsage::StorageWrite);

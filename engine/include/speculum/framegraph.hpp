@@ -53,11 +53,13 @@ struct TextureDesc {
     uint32_t width = 0;
     uint32_t height = 0;
     float relativeScale = 1.0f;
-    TextureHandle relativeTo;
     VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     uint32_t mips = 1;
     uint32_t layers = 1;  // 6 * n for cube arrays
     bool cube = false;
+    // Last, so that positional initializers of the fields above keep their meaning (a format
+    // there would otherwise become this handle's id by brace elision).
+    TextureHandle relativeTo;
 };
 
 struct BufferDesc {
