@@ -40,6 +40,26 @@ void writeImage(const fs::path& file, const AovImage& image, OIIO::TypeDesc type
 
 }  // namespace
 
+void prepareOutputDir(const fs::path& dir) {
+    const std::string name = dir.string();
+    if (name.empty()) throw argumentError("--out needs a folder name, got \"\"");
+    std::error_code ec;
+    auto status = fs::status(dir, ec);
+    if (fs::exists(status) && !fs::is_directory(status))
+        throw argumentError("--out " + name + " exists and is not a folder" +
+                            (fs::is_regular_file(status) ? "" : " (a device or other special file)"));
+    fs::create_directories(dir, ec);
+    if (ec) throw argumentError("--out " + name + ": cannot create the folder: " + ec.message());
+    // Root passes access(W_OK) on read-only folders, and a read-only mount fails only on write:
+    // write a probe file.
+    fs::path probe = dir / (".speculum-write-test." + std::to_string(::getpid()));
+    {
+        std::ofstream out(probe);
+        if (!out) throw argumentError("--out " + name + ": the folder is not writable");
+    }
+    fs::remove(probe, ec);
+}
+
 void writeExr(const fs::path& file, const AovImage& image) {
     writeImage(file, image, OIIO::TypeDesc::FLOAT, std::max(image.channels, 1u) == 2 ? 3 : image.channels);
 }

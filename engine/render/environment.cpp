@@ -29,6 +29,7 @@
 
 #include "speculum/core.hpp"
 #include "speculum/gpu/pipeline.hpp"
+#include "speculum/scene.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -106,6 +107,7 @@ glm::vec3 EquirectImage::sample(glm::vec3 dir) const {
 
 EquirectImage loadEquirect(const std::filesystem::path& path) {
     const std::string file = path.string();
+    checkEnvironmentImage(path);  // regular file and header limits before any pixel is read
     auto in = OIIO::ImageInput::open(file);
     if (!in) throw inputError(file, "cannot read environment map: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
