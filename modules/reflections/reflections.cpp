@@ -15,7 +15,9 @@ namespace {
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+// The frame's constants are a storage buffer, not a uniform buffer: see ReflectionFrame in
+// shaders/reflections/common.glsl (a lavapipe leak, issue 15).
+constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
 // Binding 0 is the frame's uniforms in every pipeline; then the given types in order.
@@ -74,7 +76,7 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
                                          "reflections.hiz_view")),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
-      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "reflections.frame") {
+      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "reflections.frame") {
     std::vector<glm::vec4> table = materialTable(r.scene());
     materialCount = uint32_t(table.size());
     materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

@@ -7,8 +7,12 @@
 
 #include "common/camera.glsl"
 
-// std140 twin of FrameUniforms in modules/reflections/passes.hpp.
-layout(set = 0, binding = 0, std140) uniform ReflectionFrame {
+// std140 twin of FrameUniforms in modules/reflections/passes.hpp. A read-only storage buffer, not
+// a uniform block: lavapipe (Mesa 22.3) inlines uniform-block values that steer branches and
+// loops, recompiling the shader on every pipeline bind and keeping each copy until the pipeline
+// is destroyed -- 0.55 MB a frame with this module (issue 15; tests/hardening/driver_probe.cpp
+// shows it in 60 lines). Storage-buffer loads are never inlined.
+layout(set = 0, binding = 0, std140) readonly buffer ReflectionFrame {
     mat4 viewProj;
     mat4 invViewProj;
     mat4 prevViewProj;
