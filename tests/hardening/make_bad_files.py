@@ -39,6 +39,8 @@ def main(out):
         f.write(text[:-1] + ', "extras": ' + deep(20000) + "}")
     with open(os.path.join(out, "deep_settings.json"), "w") as f:
         f.write('{"render.exposure": 1, "x": ' + deep(20000) + "}")
+    with open(os.path.join(out, "deep_suite.json"), "w") as f:
+        f.write('{"methods": ' + deep(20000) + "}")
     with open(os.path.join(out, "deep_path.json"), "w") as f:
         f.write('{"frames": 2, "keys": ' + deep(20000) + "}")
     # Environment maps: a device, and headers that claim huge images (21-22 bytes each).
