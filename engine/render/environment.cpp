@@ -118,8 +118,11 @@ EquirectImage loadEquirect(const std::filesystem::path& path) {
     image.height = uint32_t(spec.height);
     int channels = spec.nchannels >= 3 ? 3 : 1;  // grey (+ alpha) is replicated below
     std::vector<float> pixels(size_t(spec.width) * spec.height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw inputError(file, "cannot decode environment map: " + in->geterror());
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
+        std::string why = in->geterror();  // empty for some truncated files (issue 15)
+        throw inputError(file, "cannot decode environment map: " +
+                                   (why.empty() ? std::string("its pixels are truncated or corrupt") : why));
+    }
     in->close();
 
     image.texels.resize(size_t(image.width) * image.height);
