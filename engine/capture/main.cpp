@@ -51,6 +51,21 @@ std::vector<std::string> parseAovs(const std::string& list) {
     return aovs;
 }
 
+// The files a run will write, where a folder of that name would stop it only after rendering.
+void checkOutputNames(const std::string& out, const std::vector<std::string>& aovs, size_t frames, bool everyFrame) {
+    std::vector<std::string> names = {"timings.json", "graph.dot", "graph.json"};
+    for (size_t f : {everyFrame ? size_t(0) : frames - 1, frames - 1})
+        for (const std::string& a : aovs) {
+            char stem[64];
+            std::snprintf(stem, sizeof stem, ".%04zu", f);
+            names.push_back(a + stem + ".exr");
+            if (a == "color") names.push_back(a + stem + ".png");
+        }
+    for (const std::string& n : names)
+        if (fs::is_directory(fs::path(out) / n))
+            throw argumentError("--out " + out + ": " + n + " is a folder; the capture writes a file of that name");
+}
+
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
     if (o.scene.empty()) throw argumentError("--scene FILE is required");
@@ -72,6 +87,7 @@ int run(const Options& o) {
     std::vector<render::CameraState> cameras = app::selectCameras(
         {o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, size_t(o.frames));
     app::prepareOutputDir(o.out);  // before the device: a bad --out costs no rendering
+    checkOutputNames(o.out, aovs, cameras.size(), !o.path.empty());
 
     gpu::Context ctx(gpu::ContextOptions{.deviceName = o.device});
     uint32_t maxDim = ctx.properties().limits.maxImageDimension2D;
