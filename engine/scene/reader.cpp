@@ -158,6 +158,11 @@ Container readContainer(const std::filesystem::path& path, const Reader& r) {
     if (ec || !std::filesystem::exists(status)) r.fail("", "no such file");
     if (std::filesystem::is_directory(status)) r.fail("", "is a folder, not a glTF file");
     if (!std::filesystem::is_regular_file(status)) r.fail("", "is not a regular file (a glTF scene must be one)");
+    // The whole file is read into memory: no more than the largest buffer plus its JSON.
+    const uint64_t fileBytes = std::filesystem::file_size(path, ec);
+    if (!ec && fileBytes > kMaxBufferBytes + limits::kMaxTextFileBytes)
+        r.fail("", "the file has " + limits::bytesText(fileBytes) + ", more than the " +
+                       limits::bytesText(kMaxBufferBytes + limits::kMaxTextFileBytes) + " a scene file may have");
     std::ifstream in(path, std::ios::binary);
     if (!in) r.fail("", "cannot open the file");
     c.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
