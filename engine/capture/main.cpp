@@ -72,7 +72,8 @@ int run(const Options& o) {
     if (o.frames < 1 || o.frames > 100000) throw argumentError("--frames must be in 1..100000");
     if (o.warmup < 0 || o.warmup > 1000) throw argumentError("--warmup must be in 0..1000");
     if (o.framesGiven && !o.path.empty())
-        throw argumentError("--frames does not apply with --path: the path's \"frames\" sets how many frames are rendered");
+        throw argumentError(
+            "--frames does not apply with --path: the path's \"frames\" sets how many frames are rendered");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = app::parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);

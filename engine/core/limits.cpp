@@ -14,16 +14,18 @@ void checkJsonDepth(const std::string& text, const std::string& file) {
     for (size_t i = 0; i < text.size(); ++i) {
         char c = text[i];
         if (inString) {
-            if (c == '\\') ++i;  // skips the escaped character, including \"
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++i;  // skips the escaped character, including \"
+            else if (c == '"')
+                inString = false;
             continue;
         }
         if (c == '"') {
             inString = true;
         } else if (c == '[' || c == '{') {
             if (++depth > kMaxJsonDepth)
-                throw inputError(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) +
-                                           " levels (at byte " + std::to_string(i) + ")");
+                throw inputError(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels (at byte " +
+                                           std::to_string(i) + ")");
         } else if (c == ']' || c == '}') {
             if (depth > 0) --depth;  // unbalanced brackets are the JSON parser's to report
         }
@@ -37,7 +39,8 @@ std::string readJsonText(const std::filesystem::path& path, const std::string& w
     auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) throw inputError(file, "no such " + what);
     if (std::filesystem::is_directory(status)) throw inputError(file, "is a folder, not a " + what);
-    if (!std::filesystem::is_regular_file(status)) throw inputError(file, "is not a regular file (a " + what + " must be one)");
+    if (!std::filesystem::is_regular_file(status))
+        throw inputError(file, "is not a regular file (a " + what + " must be one)");
     uint64_t size = std::filesystem::file_size(path, ec);
     if (ec) throw inputError(file, "cannot read the " + what + ": " + ec.message());
     if (size > kMaxTextFileBytes)

@@ -101,9 +101,11 @@ void Settings::fromJson(const nlohmann::json& j, const std::string& source) {
             bool ok = d->type == SettingType::Enum   ? value.is_string()
                       : d->type == SettingType::Bool ? value.is_boolean()
                                                      : value.is_number();
-            if (!ok)
-                throw argumentError("setting '" + key + "' needs " + want +
-                                    (d->type == SettingType::Bool ? "" : rangeText(*d)) + ", not " + value.dump().substr(0, 40));
+            if (!ok) {
+                std::string range = d->type == SettingType::Bool ? "" : rangeText(*d);
+                throw argumentError("setting '" + key + "' needs " + want + range + ", not " +
+                                    value.dump().substr(0, 40));
+            }
             if (value.is_string())
                 set(key, value.get<std::string>());
             else

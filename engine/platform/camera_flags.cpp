@@ -39,7 +39,8 @@ std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
     // Digits only, by hand: sscanf's %u took "-3" as 4294967293 and wrapped 4294967296 to 0.
     auto number = [&](size_t& i, uint64_t& v) {
         size_t start = i;
-        for (v = 0; i < s.size() && s[i] >= '0' && s[i] <= '9' && i - start < 12; ++i) v = v * 10 + uint64_t(s[i] - '0');
+        for (v = 0; i < s.size() && s[i] >= '0' && s[i] <= '9' && i - start < 12; ++i)
+            v = v * 10 + uint64_t(s[i] - '0');
         return i > start && (i >= s.size() || s[i] < '0' || s[i] > '9');
     };
     size_t i = 0;

@@ -40,7 +40,8 @@ void checkSceneFitsDevice(const gpu::Context& ctx, const Scene& scene) {
     if (const char* mb = std::getenv("SPECULUM_SCENE_BUDGET_MB"); mb && *mb) {
         char* end = nullptr;
         unsigned long long v = std::strtoull(mb, &end, 10);
-        if (*end || v == 0) throw argumentError("SPECULUM_SCENE_BUDGET_MB needs a whole number of MiB, got '" + std::string(mb) + "'");
+        if (*end || v == 0)
+            throw argumentError("SPECULUM_SCENE_BUDGET_MB needs a whole number of MiB, got '" + std::string(mb) + "'");
         if ((v << 20) < budget) {
             budget = v << 20;
             share = "SPECULUM_SCENE_BUDGET_MB";

@@ -13,8 +13,7 @@ namespace speculum {
 
 std::filesystem::path environmentPath(const Scene& scene) {
     const nlohmann::json& doc = scene.document;
-    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
-        return {};
+    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return {};
     size_t index = 0;
     if (doc.contains("scene") && doc["scene"].is_number_unsigned()) index = doc["scene"].get<size_t>();
     if (index >= doc["scenes"].size()) return {};
@@ -23,8 +22,8 @@ std::filesystem::path environmentPath(const Scene& scene) {
         return {};
     const nlohmann::json& env = s["extras"]["environment"];
     if (!env.is_string() || env.get<std::string>().empty())
-        throw inputError(scene.path.string(), "scenes[" + std::to_string(index) +
-                                                  "].extras.environment must be a non-empty path string");
+        throw inputError(scene.path.string(),
+                         "scenes[" + std::to_string(index) + "].extras.environment must be a non-empty path string");
     return scene.path.parent_path() / env.get<std::string>();
 }
 

@@ -17,9 +17,8 @@ int check(const char* path) {
     try {
         speculum::Scene scene = speculum::loadScene(path);
         speculum::SceneBytes b = speculum::sceneBytes(scene);
-        std::printf("%s: %zu meshes, %zu images, %zu instances, %llu bytes for the device\n", path,
-                    scene.meshes.size(), scene.images.size(), scene.instances.size(),
-                    static_cast<unsigned long long>(b.total()));
+        std::printf("%s: %zu meshes, %zu images, %zu instances, %llu bytes for the device\n", path, scene.meshes.size(),
+                    scene.images.size(), scene.instances.size(), static_cast<unsigned long long>(b.total()));
         return 0;
     } catch (const speculum::Error& e) {
         std::printf("speculum-scene-check: %s\n", e.what());

@@ -6,19 +6,19 @@
 #include "speculum/core.hpp"
 #include "speculum/scene.hpp"
 
+#include <unistd.h>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
 std::filesystem::path inputPath() {
     static const std::filesystem::path path = [] {
-        std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("speculum-fuzz-" + std::to_string(::getpid()));
+        std::filesystem::path dir =
+            std::filesystem::temp_directory_path() / ("speculum-fuzz-" + std::to_string(::getpid()));
         std::filesystem::create_directories(dir / "scenes");
         // SPECULUM_FUZZ_ASSETS=assets: the scenes' .bin files beside the input and ../env, so
         // mutants of the real scenes reach buffers, meshes and the environment check.

@@ -14,11 +14,11 @@
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/gpu/resources.hpp"
 
+#include <unistd.h>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <vector>
-#include <unistd.h>
 
 using namespace speculum;
 
@@ -70,9 +70,10 @@ int main(int argc, char** argv) {
         gpu::Context ctx;
         double ubo = growthPer1000(ctx, "tests/branch_on_ubo.comp", VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, dispatches);
         double ssbo = growthPer1000(ctx, "tests/branch_on_ssbo.comp", VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, dispatches);
-        std::printf("%s\nbranch on a uniform-buffer value: %.0f KB per 1000 dispatches\n"
-                    "branch on a storage-buffer value: %.0f KB per 1000 dispatches\n",
-                    ctx.deviceName().c_str(), ubo, ssbo);
+        std::printf(
+            "%s\nbranch on a uniform-buffer value: %.0f KB per 1000 dispatches\n"
+            "branch on a storage-buffer value: %.0f KB per 1000 dispatches\n",
+            ctx.deviceName().c_str(), ubo, ssbo);
         if (ctx.validationEnabled() && gpu::Context::validationMessageCount() > 0) return 1;
         // 1,000 dispatches of the leaking form cost 68 MB on lavapipe; 1 MB is allocator noise.
         return ssbo < 1024.0 ? 0 : 1;

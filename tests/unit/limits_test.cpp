@@ -15,7 +15,9 @@ using namespace speculum::scenetest;
 
 namespace {
 
-std::string nest(int depth) { return std::string(size_t(depth), '[') + "0" + std::string(size_t(depth), ']'); }
+std::string nest(int depth) {
+    return std::string(size_t(depth), '[') + "0" + std::string(size_t(depth), ']');
+}
 
 ExitCode codeOf(const std::function<void()>& f, std::string* message = nullptr) {
     try {
