@@ -3,6 +3,7 @@
 #include "speculum/app/device_budget.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
+#include "speculum/app/output.hpp"
 #include "speculum/reflections/hook.hpp"
 #include "speculum/app/window.hpp"
 #include "speculum/core.hpp"
@@ -97,7 +98,8 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames, 
     app::checkSceneFitsDevice(ctx, scene);
     render::Renderer renderer(ctx, scene);
     // The sample plays with the module's defaults; the editor is where settings change.
-    Settings settings(reflections::settingsTable());
+    Settings settings(app::settingsOf({}, {probes::moduleInfo(), reflections::moduleInfo()}));
+    probes::Probes probeModule(ctx, renderer);
     reflections::Reflections module(ctx, renderer);
     app::Swapchain swapchain(ctx, window);
     app::FrameRunner runner(ctx, renderer, swapchain.extent().width, swapchain.extent().height);
@@ -124,6 +126,9 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames, 
         float dt = std::chrono::duration<float>(now - last).count();
         last = now;
         updateCamera(window.handle(), cam, dt, lastX, lastY, speed);
+        // Probe captures are graphs of their own: before the frame's graph, outside the swapchain.
+        probeModule.update(frames == 0 ? [](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); }
+                                       : probes::Probes::Progress{});
         if (!swapchain.acquire()) continue;
         VkExtent2D e = swapchain.extent();
         runner.resize(e.width, e.height);
@@ -133,7 +138,7 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames, 
         if (first) frame.previousCamera = frame.camera;
         first = false;
         app::FrameResult result = runner.render(
-            frame, {}, reflections::litHook(module, settings, frame),
+            frame, {}, reflections::litHook(module, &probeModule, settings, frame),
             [&](FrameGraph& g, TextureHandle color) { swapchain.addPresentPass(g, color); },
             swapchain.acquired(), swapchain.rendered());
         swapchain.present();

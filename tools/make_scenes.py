@@ -630,6 +630,14 @@ def build_gallery():
     g.light("lamp.left", "point", 35.0, LAMP_COLOR, position=(-3.0, 4.3, 1.5))
     g.light("lamp.right", "point", 35.0, LAMP_COLOR, position=(3.0, 4.3, -1.5))
 
+    # Probe: the box proxy is the hall's interior (12 x 5 x 8 m), so box projection puts every
+    # wall, the floor and the ceiling where they are; captured from the hall's centre (0, 2.5, 0),
+    # 2 m from the nearest object (the torus, top at y 1.42), so none fills a face. The far-wall
+    # opening and the skylight are holes in the proxy's faces: rays that leave through them read
+    # the sky the capture saw there. No second probe: the hall has no alcove, and a smaller box
+    # around the sphere or the dish would put its proxy faces in mid-air (wrong parallax for
+    # every wall). 256 texels a face: 0.35 degrees a texel, about one pixel of a 320x180 view
+    # (yfov 0.95 rad / 180 = 0.30 degrees), for the mirror floor and sphere.
     g.probe("reflection_probe.hall", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
             extents=[W, H / 2, D], blendDistance=0.5, resolution=256, update="once", order=0)
 
@@ -710,6 +718,15 @@ def build_cornell():
 
     g.light("ceiling_lamp", "point", 12.0, LAMP_COLOR, position=(0.0, H - 0.2, 0.0))
 
+    # Probe: the box's interior (3 m cube) as the proxy; the open +z side is the proxy's front
+    # face, where rays read the room's outside as the capture saw it. Captured at the box's
+    # centre (0, 1.5, 0): 0.26 m above the knot's top (y 1.24), 0.75 m from the knot and 1.3 m
+    # from the dish. Blend 0.25 m, not the usual 0.5: the box is only 3 m across, so 0.5 m
+    # would be a third of it. 128 texels a face: 2.3 cm a texel on the walls 1.5 m away, and the
+    # curved mirrors (all but the dish convex) minify what they show.
+    g.probe("reflection_probe.box", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
+            extents=[S, H / 2, S], blendDistance=0.25, resolution=128, update="once", order=0)
+
     g.camera("main", (0.0, 1.9, 3.0), (0.0, 0.9, -0.5))
     g.camera("sphere_close", (-0.2, 1.1, 0.5), (-0.95, 0.45, -0.3))
     g.camera("concave_close", (0.55, 1.6, -0.3), (0.0, 2.05, -1.45))
@@ -780,6 +797,18 @@ def build_failure_cases():
     g.light("sun", "directional", 3.0, SUN_COLOR, direction=(-0.4, -1.0, -0.3))
     g.light("fill", "point", 25.0, LAMP_COLOR, position=(0.0, 3.0, 1.0))
 
+    # Probe: one box over the stage, the only area there is. Its bottom is the mirror floor
+    # (y 0), its back face the back wall's front (z -5.5), its sides the floor's edges (x +-6)
+    # and its front face z +5.5, 0.2 m behind the glowing totems (z 4.5..5.3), so the totems
+    # that the vertical mirror shows land near where they stand. 5 m high: it holds the
+    # overhead bar (y 4.05..4.35) and keeps the centre, the capture point (0, 2.5, 0), clear of
+    # everything (0.5 m above the occluder's top and 1.7 m from it, 3.5 m from the mirror).
+    # Above 2.5 m the proxy faces are open sky, where box projection only bends the sky a
+    # little. No second probe: a smaller box would put proxy faces in the open, and the
+    # reflectors (floor, vertical mirror) span the stage.
+    g.probe("reflection_probe.stage", (0.0, 2.5, 0.0), kind="local_cubemap", shape="box",
+            extents=[6.0, 2.5, 5.5], blendDistance=0.5, resolution=128, update="once", order=0)
+
     g.camera("main", eye, (0.0, 0.1, -2.0))
     mn = (math.sin(math.radians(yaw)), 0.0, math.cos(math.radians(yaw)))
     g.camera("mirror_front", add(mc, add(mul(mn, 2.6), (0.0, 0.15, 0.0))), mc)
@@ -792,6 +821,170 @@ def build_failure_cases():
         ((-0.5, 1.1, 1.8), (-2.2, 1.0, -3.0)),
         ((1.0, 0.6, 0.2), (1.0, 0.8, -4.9)),
         ((3.6, 1.0, 0.6), (2.3, 0.6, -1.8)),
+    ])
+
+
+def build_closed_room():
+    """Sealed room 8 m (x) x 3 m (y) x 6 m (z): x in [-4, 4], y in [0, 3], z in [-3, 3]."""
+    g = Gltf("closed_room")
+    W, H, D = 4.0, 3.0, 3.0
+    # Each face of the room its own saturated colour, so a reflection that reads the sky (or the
+    # wrong wall) instead of the room is a gross error wherever it happens, not a shade off.
+    walls = {"back": ("wall.red", (0.7, 0.06, 0.05)), "left": ("wall.green", (0.08, 0.5, 0.1)),
+             "right": ("wall.blue", (0.06, 0.12, 0.7)), "front": ("wall.yellow", (0.8, 0.65, 0.06))}
+    for mat, rgb in walls.values():
+        g.material(mat, rgb, 0.0, 0.8)
+    g.material("ceiling.white", (0.8, 0.8, 0.78), 0.0, 0.9)
+    # Glossy dielectric floor (roughness 0.1, F0 0.04) in 1 m tiles: the dark tiles show the
+    # reflections, the light ones the diffuse shading, and the tile edges show in every mirror
+    # where box projection puts the floor.
+    g.material("floor.tile_dark", (0.04, 0.04, 0.05), 0.0, 0.1, reflections=mirror_ext())
+    g.material("floor.tile_light", (0.55, 0.55, 0.52), 0.0, 0.1, reflections=mirror_ext())
+    g.material("chrome", (0.95, 0.95, 0.95), 1.0, 0.0, reflections=mirror_ext())
+    g.material("copper.glossy", (0.95, 0.64, 0.54), 1.0, 0.25, reflections=mirror_ext())
+    g.material("steel.polished", (0.56, 0.57, 0.58), 1.0, 0.1, reflections=mirror_ext())
+    g.material("plastic.orange", (0.9, 0.3, 0.04), 0.0, 0.15, reflections=mirror_ext())
+    g.material("pedestal.white", (0.75, 0.75, 0.72), 0.0, 0.7)
+    g.material("panel.emissive", (0.0, 0.0, 0.0), 0.0, 1.0, emissive=(1.0, 0.95, 0.85), strength=6.0)
+
+    # Every face overlaps its neighbours by LAP past the interior's edges (it runs on behind the
+    # wall it meets), so no seam or T-junction at a corner lets a ray out to the sky in either
+    # renderer; the overlap is behind the other face and never seen from inside.
+    LAP = 0.02
+    for side, corner, eu, ev, facing in (
+            ("back", (-W - LAP, -LAP, -D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, 1)),
+            ("front", (-W - LAP, -LAP, D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, -1)),
+            ("left", (-W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (1, 0, 0)),
+            ("right", (W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (-1, 0, 0))):
+        m = MeshData()
+        m.quad(corner, eu, ev, facing=facing)
+        g.object("wall." + side, m, walls[side][0])
+    m = MeshData()
+    m.quad((-W - LAP, H, -D - LAP), (2 * W + 2 * LAP, 0, 0), (0, 0, 2 * D + 2 * LAP), facing=(0, -1, 0))
+    g.object("ceiling", m, "ceiling.white")
+    # floor: 8 x 6 tiles of 1 m, the outer ring stretched by LAP
+    xs = [-W - LAP] + [-W + i for i in range(1, 8)] + [W + LAP]
+    zs = [-D - LAP] + [-D + i for i in range(1, 6)] + [D + LAP]
+    for parity, mat in ((0, "floor.tile_dark"), (1, "floor.tile_light")):
+        m = MeshData()
+        for i in range(8):
+            for j in range(6):
+                if (i + j) % 2 == parity:
+                    m.quad((xs[i], 0.0, zs[j]), (xs[i + 1] - xs[i], 0, 0), (0, 0, zs[j + 1] - zs[j]),
+                           facing=(0, 1, 0))
+        g.object(mat, m, mat)
+    # lights: an emissive ceiling panel 1.6 x 1 m (5 mm under the ceiling, seen in every mirror)
+    # and a 0.3 x 1.4 m light strip on the green wall, plus two 18 cd point lamps that do the
+    # shading and shadows (walls 2-3 m away get 2-4 lx, radiance 0.3-0.6 on the coloured walls).
+    m = MeshData()
+    m.quad((-0.8, H - 0.005, -0.5), (1.6, 0, 0), (0, 0, 1.0), facing=(0, -1, 0))
+    g.object("ceiling_panel", m, "panel.emissive")
+    m = MeshData()
+    m.quad((-W + 0.005, 1.0, -0.15), (0, 0, 0.3), (0, 1.4, 0), facing=(1, 0, 0))
+    g.object("wall_strip", m, "panel.emissive")
+    g.light("lamp.left", "point", 18.0, LAMP_COLOR, position=(-1.8, 2.7, 0.8))
+    g.light("lamp.right", "point", 18.0, LAMP_COLOR, position=(1.8, 2.7, -0.8))
+
+    # things to reflect and to reflect in, all within 2 m of the centre
+    m = MeshData()
+    m.uv_sphere(0.6, 64, 32)
+    g.object("chrome_sphere", m, "chrome", translation=(-1.3, 0.6, -0.9))
+    m = MeshData()
+    m.uv_sphere(0.45, 48, 24)
+    g.object("copper_sphere", m, "copper.glossy", translation=(1.4, 0.45, -1.3))
+    m = MeshData()
+    m.torus(0.4, 0.12, 64, 24)
+    g.object("steel_torus", m, "steel.polished", translation=(0.6, 0.52, 0.2),
+             rotation=quat_axis_angle((0, 1, 0), 35.0))
+    m = MeshData()
+    m.box((0.0, 0.45, 0.0), (0.3, 0.45, 0.3))
+    g.object("pedestal", m, "pedestal.white", translation=(0.1, 0.0, -2.0))
+    m = MeshData()
+    m.uv_sphere(0.3, 48, 24)
+    g.object("plastic_sphere", m, "plastic.orange", translation=(0.1, 1.2, -2.0))
+
+    # Probe: the room's interior exactly (half 4 x 1.5 x 3), captured from its centre
+    # (0, 1.5, 0): 0.46 m above the torus's top (y 1.04) and 0.7 m from it, 1.2 m from the chrome
+    # sphere. Nothing in the room is
+    # outside the proxy, so every reflected ray should read room, never sky.
+    g.probe("reflection_probe.room", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
+            extents=[W, H / 2, D], blendDistance=0.5, resolution=128, update="once", order=0)
+
+    g.camera("main", (0.3, 1.7, 2.6), (-0.3, 0.7, -1.2))
+    g.camera("sphere_close", (-0.4, 1.15, 0.45), (-1.3, 0.6, -0.9))
+    # from the red wall's corner back towards the yellow wall: what main has behind it
+    g.camera("back_corner", (-3.2, 1.6, -2.4), (0.4, 0.6, 0.6))
+    # The environment only feeds the SH ambient (both renderers add it); no ray sees it.
+    # Exposure: the views averaged 0.58 (main), 0.64 (sphere_close) and 0.85 (back_corner) in
+    # linear radiance at exposure 1; 0.5 brings main to 0.29.
+    g.write({"environment": "../env/interior.exr", "exposure": 0.5})
+
+    write_path("closed_room", [
+        ((2.8, 1.6, 2.4), (-0.6, 0.7, -1.2)),
+        ((0.0, 1.5, 2.6), (-0.5, 0.7, -1.2)),
+        ((-2.8, 1.6, 2.3), (-0.4, 0.6, -1.2)),
+    ])
+
+
+def build_plain_metals():
+    """Plain outdoor stand, no Speculum extensions at all: what a Blender user exports. Objects
+    on a 16 x 16 m floor (x in [-8, 8], z in [-8, 8]) in front of a low wall at z -3."""
+    g = Gltf("plain_metals")
+    # Blender's exporter writes doubleSided when backface culling is off, its default.
+    ds = dict(double_sided=True)
+    g.material("Floor", (0.5, 0.5, 0.5), 0.0, 0.5, **ds)
+    g.material("Wall", (0.7, 0.35, 0.2), 0.0, 0.8, **ds)
+    g.material("Chrome", (0.95, 0.95, 0.95), 1.0, 0.0, **ds)
+    g.material("Gold", (1.0, 0.78, 0.34), 1.0, 0.15, **ds)
+    g.material("Copper", (0.95, 0.64, 0.54), 1.0, 0.3, **ds)
+    g.material("Aluminium", (0.91, 0.92, 0.92), 1.0, 0.4, **ds)
+    g.material("Plastic.Red", (0.8, 0.05, 0.04), 0.0, 0.05, **ds)
+    g.material("Plastic.Blue", (0.05, 0.15, 0.7), 0.0, 0.2, **ds)
+    g.material("Ceramic.White", (0.85, 0.85, 0.82), 0.0, 0.3, **ds)
+
+    m = MeshData()
+    m.quad((-8.0, 0.0, -8.0), (16.0, 0, 0), (0, 0, 16.0), 4, 4, facing=(0, 1, 0))
+    g.object("Floor", m, "Floor")
+    m = MeshData()
+    m.box((0.0, 1.0, -3.1), (4.0, 1.0, 0.1))
+    g.object("Wall", m, "Wall")
+
+    m = MeshData()
+    m.uv_sphere(0.6, 64, 32)
+    g.object("Chrome_Sphere", m, "Chrome", translation=(-0.8, 0.6, 0.0))
+    m = MeshData()
+    m.uv_sphere(0.45, 48, 24)
+    g.object("Gold_Sphere", m, "Gold", translation=(0.7, 0.45, -0.7))
+    m = MeshData()
+    m.torus(0.45, 0.14, 64, 24)
+    g.object("Copper_Torus", m, "Copper", translation=(1.9, 0.59, 0.2),
+             rotation=quat_axis_angle((0, 1, 0), -25.0))
+    m = MeshData()
+    m.cylinder(0.3, 1.2, 32)
+    g.object("Aluminium_Cylinder", m, "Aluminium", translation=(-2.3, 0.0, -0.9))
+    m = MeshData()
+    m.uv_sphere(0.35, 48, 24)
+    g.object("Red_Sphere", m, "Plastic.Red", translation=(-1.9, 0.35, 1.0))
+    m = MeshData()
+    m.box((0.0, 0.25, 0.0), (0.25, 0.25, 0.25))
+    g.object("Blue_Cube", m, "Plastic.Blue", translation=(0.2, 0.0, 1.1),
+             rotation=quat_axis_angle((0, 1, 0), 20.0))
+    m = MeshData()
+    m.uv_sphere(0.3, 48, 24)
+    g.object("White_Sphere", m, "Ceramic.White", translation=(1.2, 0.3, 1.4))
+
+    g.light("Sun", "directional", 3.0, SUN_COLOR, direction=(-0.5, -1.0, -0.4))
+
+    g.camera("main", (0.3, 1.5, 4.4), (0.0, 0.5, 0.0))
+    g.camera("sphere_close", (0.1, 1.0, 1.6), (-0.8, 0.6, 0.0))
+    # Exposure: main averaged 1.56 in linear radiance at exposure 1 (speculum-capture --aov
+    # linear, 320x180), sphere_close 2.05; 0.18 brings them to 0.28 and 0.37.
+    g.write({"environment": "../env/courtyard.exr", "exposure": 0.18})
+
+    write_path("plain_metals", [
+        ((-3.0, 1.4, 3.6), (0.0, 0.5, 0.0)),
+        ((0.3, 1.5, 4.4), (0.0, 0.5, 0.0)),
+        ((3.4, 1.4, 3.4), (0.0, 0.5, 0.0)),
     ])
 
 
@@ -1077,12 +1270,22 @@ def check_scene(name, verbose=True):
     tracer = Tracer()
     lo, hi = [1e30] * 3, [-1e30] * 3
     ntris = 0
+    probes = []
     for i, n in enumerate(nodes):
         ext = n.get("extensions", {}).get(PROBE_EXT)
         if ext is not None:
             require(ext["kind"] in ENUM_KIND and ext["shape"] in ENUM_SHAPE and ext["update"] in ENUM_UPDATE,
                     "bad probe enum on " + n["name"])
             require(len(ext["extents"]) == 3 and all(finite(c) and c > 0 for c in ext["extents"]), "probe extents")
+            res = ext["resolution"]
+            require(isinstance(res, int) and 8 <= res <= 4096 and res & (res - 1) == 0,
+                    "probe %s: resolution %r is not a power of two in [8, 4096]" % (n["name"], res))
+            require(finite(ext["blendDistance"]) and ext["blendDistance"] >= 0, "probe %s: blendDistance" % n["name"])
+            # the extents are in the node's space; ours are unrotated and unscaled, so the box is
+            # world-aligned and the checks below can work in world space
+            require("rotation" not in n and "scale" not in n and "matrix" not in n,
+                    "probe %s: rotated or scaled" % n["name"])
+            probes.append((n["name"], i, ext))
         if "mesh" not in n:
             continue
         require(world[i] is not None, "node %s not in scene" % n["name"])
@@ -1098,6 +1301,41 @@ def check_scene(name, verbose=True):
 
     def inside(p, pad=0.01):
         return all(lo[k] - pad <= p[k] <= hi[k] + pad for k in range(3))
+
+    # A probe's capture point (its centre) must be in the open: a back face first along any axis
+    # means it sits inside a closed object and would capture that object's inside.
+    probe_report = []
+    sealed = name in SEALED
+    for pn, pi, ext in probes:
+        c = (world[pi][12], world[pi][13], world[pi][14])
+        require(inside(c), "probe %s: centre outside the scene" % pn)
+        nearest = 1e30
+        for k in range(3):
+            for sgn in (1.0, -1.0):
+                d = tuple(sgn if j == k else 0.0 for j in range(3))
+                h = tracer.cast(c, d)
+                if h is None:
+                    continue
+                require(dot(h[2], d) < 0.0, "probe %s: capture point inside an object" % pn)
+                nearest = min(nearest, h[0])
+                # In a sealed room the box proxy is the interior: along each axis the first hit is
+                # the room's face at the box's face (1 cm: the 5 mm ceiling panel).
+                if sealed and ext["shape"] == "box":
+                    require(abs(h[0] - ext["extents"][k]) <= 0.01,
+                            "probe %s: proxy face %s%s at %.3f m, the room's at %.3f m" % (
+                                pn, "+" if sgn > 0 else "-", "xyz"[k], ext["extents"][k], h[0]))
+        if sealed:
+            # every direction from the capture point hits the room inside the proxy box
+            for j in range(16):
+                for i in range(32):
+                    th, ph = (j + 0.5) / 16 * math.pi, (i + 0.5) / 32 * 2.0 * math.pi
+                    d = (math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph))
+                    h = tracer.cast(c, d)
+                    require(h is not None, "probe %s: the capture sees the sky along %s" % (pn, r6v(d)))
+                    q = add(c, mul(d, h[0]))
+                    require(all(abs(q[k] - c[k]) <= ext["extents"][k] + 0.01 for k in range(3)),
+                            "probe %s: a surface outside the proxy box at %s" % (pn, r6v(q)))
+        probe_report.append((pn, c, ext, nearest))
 
     def reflective(mat):
         if mat < 0:
@@ -1133,7 +1371,8 @@ def check_scene(name, verbose=True):
         require(hit is not None and inside(add(eye, mul(fwd, hit[0]))), "camera %s looks at nothing" % n["name"])
         th = math.tan(cam["perspective"]["yfov"] / 2.0)
         tw = th * 16.0 / 9.0
-        stats = {"backfaces": 0, "reflective": 0, "reflect_hits_emissive": 0, "direct": {}, "reflected": {}}
+        stats = {"backfaces": 0, "reflective": 0, "reflect_hits_emissive": 0, "escapes": 0, "direct": {},
+                 "reflected": {}}
         for py in range(H):
             for px in range(W):
                 sx = ((px + 0.5) / W * 2.0 - 1.0) * tw
@@ -1141,8 +1380,14 @@ def check_scene(name, verbose=True):
                 d = normalize(add(fwd, add(mul(right, sx), mul(up, sy))))
                 h = tracer.cast(eye, d)
                 if h is None:
+                    stats["escapes"] += 1
                     continue
                 stats["direct"][h[1]] = stats["direct"].get(h[1], 0) + 1
+                if sealed:  # the mirror bounce of every surface must stay in the room too
+                    p = add(eye, mul(d, h[0]))
+                    nn = h[2] if dot(h[2], d) < 0 else mul(h[2], -1.0)
+                    if tracer.cast(add(p, mul(nn, 1e-4)), sub(d, mul(nn, 2.0 * dot(d, nn)))) is None:
+                        stats["escapes"] += 1
                 if dot(h[2], d) > 0.0:
                     stats["backfaces"] += 1
                 if reflective(h[1]):
@@ -1156,10 +1401,29 @@ def check_scene(name, verbose=True):
                         if emissive(h2[1]):
                             stats["reflect_hits_emissive"] += 1
         require(stats["backfaces"] <= W * H // 100, "camera %s sees %d back faces" % (n["name"], stats["backfaces"]))
+        require(not sealed or stats["escapes"] == 0,
+                "camera %s: %d rays or their mirror bounces reach the sky" % (n["name"], stats["escapes"]))
         frac = stats["reflective"] / float(W * H)
         require(frac >= 0.05, "camera %s sees little reflective surface (%.1f%%)" % (n["name"], 100 * frac))
         stats["reflective_fraction"] = frac
         report["cameras"][n["name"]] = stats
+
+    lights = doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
+    if sealed:
+        require(probes, "%s: sealed room without a probe" % name)
+        require(all(lt["type"] != "directional" for lt in lights), "%s: a sun in a sealed room" % name)
+    if name in PLAIN:
+        # what a plain exporter writes: no Speculum extension anywhere, by any name
+        with open(path, "r", encoding="utf-8") as f:
+            require("SPECULUM_" not in f.read(), "%s: uses a Speculum extension" % name)
+        require(any(lt["type"] == "directional" for lt in lights), "%s: no sun" % name)
+
+        def has(metal, r0, r1):
+            return any(m["pbrMetallicRoughness"]["metallicFactor"] == metal
+                       and r0 <= m["pbrMetallicRoughness"]["roughnessFactor"] <= r1 for m in mats)
+        require(has(1.0, 0.0, 0.0), "%s: no chrome (metallic 1, roughness 0)" % name)
+        require(has(1.0, 0.15, 0.4), "%s: no glossy metal (roughness 0.15-0.4)" % name)
+        require(has(0.0, 0.05, 0.3), "%s: no glossy dielectric (roughness 0.05-0.3)" % name)
 
     if name == "failure_cases":
         main = report["cameras"]["main"]
@@ -1176,6 +1440,10 @@ def check_scene(name, verbose=True):
     if verbose:
         print("%s: %d triangles, bin %d bytes, bounds %s..%s" % (name, ntris, len(buffers[0]),
               [round(c, 2) for c in lo], [round(c, 2) for c in hi]))
+        for pn, c, ext, nearest in probe_report:
+            print("  probe  %-24s %s at %s, extents %s, blend %g, %d^2, order %d; first hit along the axes"
+                  " %.2f m" % (pn, ext["shape"], r6v(c), ext["extents"], ext["blendDistance"], ext["resolution"],
+                               ext["order"], nearest))
         for cn, st in report["cameras"].items():
             refl = sorted(((c, mats[k]["name"]) for k, c in st["reflected"].items()), reverse=True)[:4]
             print("  camera %-16s reflective %4.1f%%  reflections show: %s" % (
@@ -1197,7 +1465,9 @@ def check_path(name, lo, hi):
         require(length(sub(k["target"], k["eye"])) > 0.1, "path %s: eye == target" % name)
 
 
-SCENES = ("gallery", "cornell_mirrors", "failure_cases")
+SCENES = ("gallery", "cornell_mirrors", "failure_cases", "closed_room", "plain_metals")
+SEALED = ("closed_room",)  # no ray from inside, direct or mirrored, may reach the sky
+PLAIN = ("plain_metals",)  # no Speculum extension at all, like a plain Blender export
 
 
 def main():
@@ -1208,6 +1478,8 @@ def main():
         build_gallery()
         build_cornell()
         build_failure_cases()
+        build_closed_room()
+        build_plain_metals()
         build_blender_repro()
         for n in SCENES:
             print("wrote assets/scenes/%s.gltf, .bin and assets/paths/%s.json" % (n, n))

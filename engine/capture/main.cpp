@@ -35,17 +35,22 @@ struct Options {
     bool settingsGiven = false, framesGiven = false;  // a flag given as "" or beside --path
 };
 
+// The modules this tool composes, in chain order: probes, then reflections (which takes the
+// probes' handles).
+std::vector<app::ModuleInfo> modules() {
+    return {probes::moduleInfo(), reflections::moduleInfo()};
+}
+
 std::vector<std::string> parseAovs(const std::string& list) {
     auto aovs = app::splitList(list);
     std::string known;
-    for (const auto* l : {&app::availableAovs(), &app::moduleAovs()})
-        for (const std::string& a : *l) known += (known.empty() ? "" : ", ") + a;
+    for (const std::string& a : app::availableAovs()) known += (known.empty() ? "" : ", ") + a;
+    for (const app::ModuleInfo& m : modules())
+        for (const app::AovInfo& a : m.aovs) known += ", " + a.name;
     if (aovs.empty()) throw argumentError("--aov needs at least one of: " + known);
     for (const std::string& a : aovs) {
         const auto& engine = app::availableAovs();
-        const auto& module = app::moduleAovs();
-        if (std::find(engine.begin(), engine.end(), a) == engine.end() &&
-            std::find(module.begin(), module.end(), a) == module.end())
+        if (std::find(engine.begin(), engine.end(), a) == engine.end() && !app::aovProvider(modules(), a))
             throw argumentError("unknown AOV '" + a + "' (known: " + known + ")");
     }
     return aovs;
@@ -78,9 +83,7 @@ int run(const Options& o) {
     auto [w, h] = app::parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
-    std::vector<SettingDesc> table = app::engineSettingsTable();
-    for (SettingDesc& d : reflections::settingsTable()) table.push_back(std::move(d));
-    Settings settings(std::move(table));
+    Settings settings(app::settingsOf(app::engineSettingsTable(), modules()));
     if (o.settingsGiven) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
 
@@ -100,13 +103,21 @@ int run(const Options& o) {
     render::RendererOptions ro;
     app::applyRenderSettings(settings, ro);
     render::Renderer renderer(ctx, scene, ro);
+    probes::Probes probeModule(ctx, renderer, probes::ProbeSettings::from(settings));
     reflections::Reflections module(ctx, renderer);
     app::FrameRunner runner(ctx, renderer, w, h);
+    // Probes update before each frame's graph is built (their captures are graphs of their own).
+    auto updateProbes = [&] {
+        probeModule.update([](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); });
+    };
 
     // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.
     render::FrameInputs frame;
     frame.camera = frame.previousCamera = cameras.front();
-    for (int i = 0; i < o.warmup; ++i) runner.render(frame, {}, reflections::litHook(module, settings, frame));
+    for (int i = 0; i < o.warmup; ++i) {
+        updateProbes();
+        runner.render(frame, {}, reflections::litHook(module, &probeModule, settings, frame));
+    }
 
     app::TimingLog timings;
     bool writeEvery = !o.path.empty();
@@ -115,8 +126,9 @@ int run(const Options& o) {
         frame.camera = cameras[i];
         if (i == 0) frame.previousCamera = frame.camera;
         bool write = writeEvery || i + 1 == cameras.size();
+        updateProbes();
         app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{},
-                                                reflections::litHook(module, settings, frame));
+                                                reflections::litHook(module, &probeModule, settings, frame));
         timings.add(result);
         if (write)
             for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);

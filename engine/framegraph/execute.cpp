@@ -70,6 +70,20 @@ void FrameGraph::execute(FrameGraphExecutor& executor, VkCommandBuffer cmd) {
         executor.endPass(cmd, i);
     }
     recordBarriers(*this, executor, cmd, g.compiled.finalTextureBarriers, {});
+    commitHistories();
+}
+
+void FrameGraph::commitHistories() {
+    Impl& g = *impl_;
+    if (!g.isCompiled) throw FrameGraphError("commitHistories() called before compile()");
+    for (auto [history, id] : g.histories) {
+        const TextureNode& node = g.textures[id];
+        bool written = std::any_of(node.writers.begin(), node.writers.end(),
+                                   [&](uint32_t pass) { return !g.compiled.passCulled[pass]; });
+        if (written) history->current_ = 1 - history->current_;
+        history->valid_ = written;
+    }
+    g.histories.clear();  // a second execute() of the same graph must not swap again
 }
 
 }  // namespace speculum

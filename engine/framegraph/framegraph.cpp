@@ -12,6 +12,22 @@ uint32_t resolveSize(uint32_t absolute, uint32_t output, float scale) {
     return scaled < 1.0 ? 1u : uint32_t(scaled);
 }
 
+// Width and height of a new texture: absolute, or relative to its `relativeTo` texture (already
+// resolved: handles only name earlier textures) or to the output.
+void resolveExtent(const FrameGraph::Impl& g, TextureDesc& d, const std::string& name) {
+    uint32_t baseW = g.config.outputWidth, baseH = g.config.outputHeight;
+    if (d.relativeTo.valid()) {
+        if (d.relativeTo.id >= g.textures.size())
+            throw FrameGraphError("texture '" + name + "' is sized relative to texture " +
+                                  std::to_string(d.relativeTo.id) + ", which does not exist");
+        const TextureDesc& base = g.textures[d.relativeTo.id].info.desc;
+        baseW = base.width;
+        baseH = base.height;
+    }
+    d.width = resolveSize(d.width, baseW, d.relativeScale);
+    d.height = resolveSize(d.height, baseH, d.relativeScale);
+}
+
 uint32_t fullMipChain(uint32_t w, uint32_t h) {
     uint32_t mips = 1;
     while ((std::max(w, h) >> mips) > 0) ++mips;
@@ -106,8 +122,7 @@ TextureHandle PassBuilder::create(const std::string& name, const TextureDesc& de
     TextureNode node;
     node.info.name = name;
     node.info.desc = desc;
-    node.info.desc.width = resolveSize(desc.width, g.config.outputWidth, desc.relativeScale);
-    node.info.desc.height = resolveSize(desc.height, g.config.outputHeight, desc.relativeScale);
+    resolveExtent(g, node.info.desc, name);
     const TextureDesc& d = node.info.desc;
     const std::string& pass = g.passes[pass_].name;
     if (d.mips == 0 || d.layers == 0 || d.mips > fullMipChain(d.width, d.height)) {
@@ -213,9 +228,7 @@ TextureHandle FrameGraph::importTexture(const std::string& name, const TextureDe
     TextureNode node;
     node.info.name = name;
     node.info.desc = desc;
-    node.info.desc.width = resolveSize(desc.width, impl_->config.outputWidth, desc.relativeScale);
-    node.info.desc.height =
-        resolveSize(desc.height, impl_->config.outputHeight, desc.relativeScale);
+    resolveExtent(*impl_, node.info.desc, name);
     node.info.desc.mips = std::max(1u, desc.mips);
     node.info.desc.layers = std::max(1u, desc.layers);
     node.info.usage = texture.usage;
@@ -224,6 +237,19 @@ TextureHandle FrameGraph::importTexture(const std::string& name, const TextureDe
     impl_->textures.push_back(std::move(node));
     impl_->isCompiled = false;
     return {uint32_t(impl_->textures.size() - 1), 0};
+}
+
+HistoryHandles FrameGraph::importHistory(const std::string& name, History& history) {
+    constexpr VkImageLayout kReadOnly = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    HistoryHandles h;
+    h.valid = history.valid();
+    h.previous = importTexture(name + ".previous", history.desc_,
+                               {history.previousImage(), kReadOnly, kReadOnly, history.usage_});
+    // The current image's old content is discarded: it is written whole this frame.
+    h.current = importTexture(name + ".current", history.desc_,
+                              {history.currentImage(), VK_IMAGE_LAYOUT_UNDEFINED, kReadOnly, history.usage_});
+    impl_->histories.emplace_back(&history, h.current.id);
+    return h;
 }
 
 BufferHandle FrameGraph::importBuffer(const std::string& name, const BufferDesc& desc,

@@ -59,6 +59,9 @@ struct FrameGraph::Impl {
     std::vector<TextureNode> textures;
     std::vector<BufferNode> buffers;
 
+    // Histories imported this frame and the texture id of their `current` image.
+    std::vector<std::pair<History*, uint32_t>> histories;
+
     CompiledGraph compiled;
     bool isCompiled = false;
     uint64_t generation = 0;  // bumped by every compile(), so execute() knows when to realize

@@ -189,6 +189,30 @@ void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, V
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+HistoryImages::HistoryImages(const Context& ctx, ImageDesc desc, const std::string& name) {
+    desc.usage |= VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    images_[0] = Image(ctx, desc, name + ".0");
+    images_[1] = Image(ctx, desc, name + ".1");
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        for (const Image& image : images_) {
+            VkImageSubresourceRange all{image.aspect(), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+            transition(cmd, image.get(), image.aspect(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+            if (image.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT) {
+                VkClearDepthStencilValue zero{};
+                vkCmdClearDepthStencilImage(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
+            } else {
+                VkClearColorValue zero{};
+                vkCmdClearColorImage(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1, &all);
+            }
+            transition(cmd, image.get(), image.aspect(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                       VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        }
+    });
+    TextureDesc td{.width = desc.width, .height = desc.height, .format = desc.format, .mips = desc.mips,
+                   .layers = desc.layers, .cube = desc.cube};
+    history_ = History(td, images_[0].get(), images_[1].get(), desc.usage);
+}
+
 Buffer uploadBuffer(const Context& ctx, std::span<const std::byte> data, VkBufferUsageFlags usage,
                     const std::string& name) {
     Buffer staging(ctx, data.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, name + ".staging");

@@ -14,11 +14,6 @@ const std::vector<std::string>& availableAovs() {
     return k;
 }
 
-const std::vector<std::string>& moduleAovs() {
-    static const std::vector<std::string> k{"reflection", "method", "iterations", "hiz", "hit"};
-    return k;
-}
-
 struct FrameRunner::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
@@ -148,13 +143,13 @@ FrameResult FrameRunner::render(const render::FrameInputs& frame, const std::vec
     };
     ModuleAovs moduleRequest;
     for (const std::string& a : aovs) {
-        if (known(moduleAovs(), a)) moduleRequest.requested.push_back(a);
+        if (aovProvider(litHook.modules, a)) moduleRequest.requested.push_back(a);
         else if (!known(availableAovs(), a)) throw argumentError("unknown AOV '" + a + "'");
     }
     auto fg = std::make_unique<FrameGraph>(FrameGraphConfig{m.width, m.height});
     render::GBuffer g = m.renderer.addGBufferPasses(*fg, frame);
-    TextureHandle lit = m.renderer.addLightingPass(*fg, frame, g);
-    if (litHook) lit = litHook(*fg, g, lit, moduleRequest);
+    TextureHandle lit = m.renderer.addLightingPass(*fg, frame, g, {.moduleSpecular = litHook.moduleSpecular});
+    if (litHook) lit = litHook.addPasses(*fg, g, lit, moduleRequest);
     TextureHandle color = m.renderer.addTonemapPass(*fg, lit);
     // The frame's image is its output even when nobody reads it back (warm-up, timing runs).
     fg->markOutput(color);
@@ -162,9 +157,11 @@ FrameResult FrameRunner::render(const render::FrameInputs& frame, const std::vec
     auto sources = m.aovSources(g, lit, color);
     for (const std::string& a : moduleRequest.requested) {
         auto it = moduleRequest.provided.find(a);
-        if (it == moduleRequest.provided.end())
-            throw argumentError("AOV '" + a + "' comes from the reflections module, which is off for this frame "
-                                "(reflections.enabled=false)");
+        if (it == moduleRequest.provided.end()) {
+            const ModuleInfo& module = *aovProvider(litHook.modules, a);
+            throw argumentError("AOV '" + a + "' comes from the " + module.name + " module, which is off for this frame" +
+                                (module.enableSetting.empty() ? "" : " (" + module.enableSetting + "=false)"));
+        }
         sources[a] = it->second;
     }
     if (!aovs.empty()) m.addReadback(*fg, sources, aovs);

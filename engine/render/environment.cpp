@@ -29,6 +29,7 @@
 
 #include "speculum/core.hpp"
 #include "speculum/gpu/pipeline.hpp"
+#include "speculum/render/cube_filter.hpp"
 #include "speculum/scene.hpp"
 
 #include <OpenImageIO/imageio.h>
@@ -184,25 +185,16 @@ struct CubePush {
     float scale;
     uint32_t supersample;
 };
-struct DownsamplePush {
-    uint32_t size;
-};
-struct PrefilterPush {
-    uint32_t size, samples;
-    float alpha;
-    uint32_t sourceSize;
-    float sourceMips;
-};
 struct DfgPush {
     uint32_t size, samples;
 };
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
 
 struct IblPipelines {
-    gpu::Pipeline cube, downsample, prefilter, dfg;
+    gpu::Pipeline cube, dfg;
+    CubeFilter filter;
 
     explicit IblPipelines(const gpu::Context& ctx)
         : cube(gpu::createComputePipeline(ctx, "engine/ibl_equirect_to_cube.comp",
@@ -210,14 +202,9 @@ struct IblPipelines {
                                            {1, kStorage, kCompute},
                                            {2, kStorage, kCompute}},
                                           sizeof(CubePush), "render.environment.equirect_to_cube")),
-          downsample(gpu::createComputePipeline(
-              ctx, "engine/ibl_downsample.comp", {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-              sizeof(DownsamplePush), "render.environment.downsample")),
-          prefilter(gpu::createComputePipeline(
-              ctx, "engine/ibl_prefilter.comp", {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-              sizeof(PrefilterPush), "render.environment.prefilter")),
           dfg(gpu::createComputePipeline(ctx, "engine/ibl_dfg.comp", {{0, kStorage, kCompute}},
-                                         sizeof(DfgPush), "render.environment.dfg")) {}
+                                         sizeof(DfgPush), "render.environment.dfg")),
+          filter(ctx) {}
 };
 
 template <class T>
@@ -254,38 +241,14 @@ void recordCubeChain(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipe
     const uint32_t supersample = std::clamp((in.equirectWidth + 4 * size - 1) / (4 * size), 1u, 8u);
     push(cmd, p.cube, CubePush{in.equirectWidth, in.equirectHeight, size, in.scale, supersample});
     vkCmdDispatch(cmd, groups(size), groups(size), 6);
-    toReadOnly(cmd, in.radiance, 0, 1);
-
-    p.downsample.bind(cmd);
-    for (uint32_t m = 1; m < in.radiance.desc().mips; ++m) {
-        const uint32_t mipSize = std::max(1u, size >> m);
-        gpu::DescriptorWriter()
-            .sampled(0, in.radiance.mipView(m - 1), in.sampler)
-            .storage(1, in.radiance.mipView(m))
-            .push(ctx, cmd, p.downsample);
-        push(cmd, p.downsample, DownsamplePush{mipSize});
-        vkCmdDispatch(cmd, groups(mipSize), groups(mipSize), 6);
-        toReadOnly(cmd, in.radiance, m, 1);
-    }
+    p.filter.recordBoxChain(cmd, in.radiance, in.sampler);
 }
 
-void recordPrefilter(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipelines& p,
-                     const BuildInputs& in, const gpu::Image& specular) {
-    const uint32_t size = specular.desc().width;
-    const uint32_t mips = specular.desc().mips;
-    p.prefilter.bind(cmd);
-    for (uint32_t m = 1; m < mips; ++m) {
-        const uint32_t mipSize = size >> m;
-        const float roughness = float(m) / float(mips - 1);
-        gpu::DescriptorWriter()
-            .sampled(0, in.radiance.view(), in.sampler)
-            .storage(1, specular.mipView(m))
-            .push(ctx, cmd, p.prefilter);
-        push(cmd, p.prefilter,
-             PrefilterPush{mipSize, in.samples, roughness * roughness, size,
-                           float(in.radiance.desc().mips)});
-        vkCmdDispatch(cmd, groups(mipSize), groups(mipSize), 6);
-    }
+void recordPrefilter(VkCommandBuffer cmd, const IblPipelines& p, const BuildInputs& in,
+                     const gpu::Image& specular) {
+    std::vector<VkImageView> views;
+    for (uint32_t m = 0; m < specular.desc().mips; ++m) views.push_back(specular.mipView(m));
+    p.filter.recordPrefilter(cmd, in.radiance, in.sampler, views, specular.desc().width, 1, in.samples);
 }
 
 void recordDfg(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipelines& p,
@@ -385,7 +348,7 @@ void Environment::build(const gpu::Context& ctx, const EquirectImage& image,
                             VK_IMAGE_LAYOUT_GENERAL);
         recordDfg(ctx, cmd, pipelines, dfg_);
         recordCubeChain(ctx, cmd, pipelines, in, specular_);
-        recordPrefilter(ctx, cmd, pipelines, in, specular_);
+        recordPrefilter(cmd, pipelines, in, specular_);
         toReadOnly(cmd, specular_, 0, VK_REMAINING_MIP_LEVELS);
         toReadOnly(cmd, dfg_, 0, 1);
     });

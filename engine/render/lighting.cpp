@@ -125,7 +125,7 @@ void Renderer::Impl::createLightingResources() {
 }
 
 void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
-                                    TextureHandle out) const {
+                                    TextureHandle out, const LightingOptions& lighting) const {
     VkCommandBuffer cmd = pass.cmd();
     VkExtent2D extent = pass.extent(out);
     VkSampler nearest = nearestSampler;
@@ -144,7 +144,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
                         glm::uvec4(extent.width, extent.height,
-                                   options.reflectionsComposite ? 1u : 0u, 0u)};
+                                   lighting.moduleSpecular ? 1u : 0u, 0u)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
     vkCmdDraw(cmd, 3, 1, 0, 0);
@@ -152,7 +152,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
 }
 
 TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& frame,
-                                        const GBuffer& gbuffer) {
+                                        const GBuffer& gbuffer, const LightingOptions& lighting) {
     struct LightingData {
         GBuffer g;
         TextureHandle linear;
@@ -170,8 +170,8 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
             data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),
                                   TextureUsage::ColorAttachment);
         },
-        [impl, frame](const LightingData& data, PassContext& ctx) {
-            impl->recordLighting(ctx, frame, data.g, data.linear);
+        [impl, frame, lighting](const LightingData& data, PassContext& ctx) {
+            impl->recordLighting(ctx, frame, data.g, data.linear, lighting);
         });
     return d.linear;
 }

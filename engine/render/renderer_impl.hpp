@@ -105,7 +105,7 @@ struct Renderer::Impl {
     void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
                        const std::vector<VkImageView>& colors, VkImageView depth) const;
     void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
-                        TextureHandle out) const;
+                        TextureHandle out, const LightingOptions& lighting) const;
     void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;
 };
 

@@ -147,7 +147,7 @@ GpuMaterial resolveMaterial(const Scene& scene, const Material& m, const ImageVi
     g.roughness = m.roughness;
     g.normalScale = m.normalTexture.scale;
     g.flags = (m.unlit ? kFlagUnlit : 0u) |
-              (m.reflections && m.reflections->mode != ReflectionMode::Off ? kFlagReflective : 0u);
+              (reflects(m) ? kFlagReflective : 0u);
     g.doubleSided = m.doubleSided;
     g.baseColorView = pick(m.baseColorTexture, v.srgb, v.white);
     g.metallicRoughnessView = pick(m.metallicRoughnessTexture, v.linear, v.whiteLinear);

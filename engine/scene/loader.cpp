@@ -27,6 +27,16 @@ Scene loadScene(const std::filesystem::path& path) {
     return scene;
 }
 
+MaterialReflections reflectionsOf(const Material& material) {
+    MaterialReflections r = material.reflections.value_or(MaterialReflections{});
+    if (material.unlit) r.mode = ReflectionMode::Off;
+    return r;
+}
+
+bool reflects(const Material& material) {
+    return reflectionsOf(material).mode != ReflectionMode::Off;
+}
+
 const Camera* Scene::findCamera(const std::string& name) const {
     for (const Camera& c : cameras)
         if (c.name == name) return &c;

@@ -98,8 +98,9 @@ ReflectionProbe parseProbe(const json& ext, const std::string& where, const Read
     p.extents = {e[0], e[1], e[2]};
     p.blendDistance = ranged(ext, "blendDistance", where, p.blendDistance, 0.0f, 1.0e6f, r);
     int64_t res = r.integer(ext, "resolution", where, p.resolution);
-    if (res < 1 || res > 4096)
-        r.fail(where + ".resolution", std::to_string(res) + " is out of range [1, 4096]");
+    // Faces are GGX-prefiltered down to 4x4 like the sky's cube, whose mips halve exactly.
+    if (res < 8 || res > 4096 || (res & (res - 1)) != 0)
+        r.fail(where + ".resolution", std::to_string(res) + " is not a power of two in [8, 4096]");
     p.resolution = uint32_t(res);
     p.update = parseEnum(ext, "update", where, p.update, kUpdates, r);
     int64_t order = r.integer(ext, "order", where, p.order);

@@ -4,23 +4,39 @@
 
 namespace speculum::reflections {
 
-app::LitHook litHook(Reflections& module, const Settings& settings, const render::FrameInputs& frame) {
-    return [&module, &settings, frame](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
-                                        app::ModuleAovs& aovs) {
-        ReflectionSettings s = ReflectionSettings::from(settings);
-        module.setActive(s.enabled);
-        if (!s.enabled) return lit;
+app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
+                     const render::FrameInputs& frame) {
+    ReflectionSettings s = ReflectionSettings::from(settings);
+    // The probes' debug view, when the host's settings carry the probes' table.
+    probes::DebugView probeView = probes && settings.find("probes.debug_view")
+                                      ? probes::DebugView(settings.getInt("probes.debug_view"))
+                                      : probes::DebugView::None;
+    app::LitHook hook;
+    hook.modules = {moduleInfo()};
+    if (probes) hook.modules.insert(hook.modules.begin(), probes::moduleInfo());
+    hook.moduleSpecular = s.enabled;
+    if (!s.enabled) {
+        // A frame without the module: the next one must not reproject this one's image.
+        module.resetHistory();
+        hook.addPasses = [](FrameGraph&, const render::GBuffer&, TextureHandle lit, app::ModuleAovs&) { return lit; };
+        return hook;
+    }
+    hook.addPasses = [&module, probes, s, frame, probeView](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
+                                                 app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;
         bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
-        ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame}, s, hizView);
+        probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes) : probes::ProbeSet{};
+        ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame, set}, s, hizView);
         aovs.provided["reflection"] = {out.reflection, 3};
         aovs.provided["method"] = {out.method, 3};
         aovs.provided["iterations"] = {out.hit, 1, 3};
         // xy hit pixel, z hit depth (< 0: the miss code of shaders/reflections/trace.comp), w iterations.
         aovs.provided["hit"] = {out.hit, 4};
         if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
+        if (probeView != probes::DebugView::None) return probes->addDebugView(graph, gbuffer, frame, set, probeView);
         return out.lit;
     };
+    return hook;
 }
 
 }  // namespace speculum::reflections

@@ -28,12 +28,17 @@ struct FrameUniforms {
     glm::uvec4 modes2;
 };
 
-struct History {
-    gpu::Image color;  // the previous frame's final lit image
-    gpu::Image depth;  // and its depth
+// The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
+// them and knows whether the previous one was written).
+struct ReflectionHistory {
+    gpu::HistoryImages color;
+    gpu::HistoryImages depth;
     uint32_t width = 0, height = 0;
-    bool valid = false;    // holds a frame this module wrote
-    bool written = false;  // ever written: in SHADER_READ_ONLY_OPTIMAL (else UNDEFINED)
+    bool valid() const { return color.history().valid() && depth.history().valid(); }
+    void invalidate() {
+        color.history().invalidate();
+        depth.history().invalidate();
+    }
 };
 
 struct Reflections::Impl {
@@ -52,9 +57,14 @@ struct Reflections::Impl {
     gpu::Buffer uniforms;
     gpu::Buffer materials;
     uint32_t materialCount = 0;
-    History history;
-    // This frame's imports of the history images (addColorPyramid reads, addHistory writes).
-    TextureHandle historyColorHandle, historyDepthHandle;
+    ReflectionHistory history;
+    // Bound when the host gives no probes (ReflectionInputs::probes left empty): one black cube
+    // and one zeroed record, blended zero times.
+    gpu::Image noProbeCubes;
+    gpu::Buffer noProbeRecords;
+    probes::ProbeSet importNoProbes(FrameGraph& g) const;
+    // This frame's imports of the histories (addColorPyramid reads previous, addHistory writes current).
+    HistoryHandles historyColor, historyDepth;
 
     Impl(const gpu::Context& c, render::Renderer& r);
     void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,

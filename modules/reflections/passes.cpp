@@ -87,22 +87,16 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     struct ReprojectData {
         TextureHandle depth, motion, lit, historyColor, historyDepth, dst;
     };
-    VkImageLayout historyLayout =
-        history.written ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
-    historyColorHandle = g.importTexture(
-        "reflections.history.color", TextureDesc{.format = render::kLinearFormat},
-        {history.color.get(), historyLayout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, history.color.desc().usage});
-    historyDepthHandle = g.importTexture(
-        "reflections.history.depth", TextureDesc{.format = render::kDepthFormat},
-        {history.depth.get(), historyLayout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, history.depth.desc().usage});
+    historyColor = g.importHistory("reflections.history.color", history.color.history());
+    historyDepth = g.importHistory("reflections.history.depth", history.depth.history());
     const auto& r = g.addPass<ReprojectData>(
         "reflections.reproject", PassType::Compute,
         [&](PassBuilder& b, ReprojectData& d) {
             d.depth = b.read(in.gbuffer.depth, TextureUsage::Sampled);
             d.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
             d.lit = b.read(in.lit, TextureUsage::Sampled);
-            d.historyColor = b.read(historyColorHandle, TextureUsage::Sampled);
-            d.historyDepth = b.read(historyDepthHandle, TextureUsage::Sampled);
+            d.historyColor = b.read(historyColor.previous, TextureUsage::Sampled);
+            d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
             TextureHandle pyramid = b.create("reflections.color", TextureDesc{.format = kColorFormat, .mips = levels});
             d.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
         },
@@ -172,11 +166,15 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, reflection, method;
+        TextureHandle hiz, normal, emissive, hit, color, reflection, method, probeCubes;
+        BufferHandle probeRecords;
     };
+    probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
+            data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
+            data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -198,7 +196,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
                 .sampled(6, pc.view(data.color), trilinear)
                 .sampled(8, env.specular().view(), env.sampler())
                 .storage(9, pc.view(data.reflection))
-                .storage(10, pc.view(data.method));
+                .storage(10, pc.view(data.method))
+                .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
+                .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
             dispatch(pc, resolve, w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
@@ -258,8 +258,8 @@ void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHand
         [&](PassBuilder& b, Data& data) {
             data.lit = b.read(lit, TextureUsage::TransferSrc);
             data.depth = b.read(depth, TextureUsage::TransferSrc);
-            data.color = b.write(historyColorHandle, TextureUsage::TransferDst);
-            data.historyDepth = b.write(historyDepthHandle, TextureUsage::TransferDst);
+            data.color = b.write(historyColor.current, TextureUsage::TransferDst);
+            data.historyDepth = b.write(historyDepth.current, TextureUsage::TransferDst);
         },
         [](const Data& data, PassContext& pc) {
             VkExtent2D e = pc.extent(data.lit);
@@ -275,7 +275,6 @@ void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHand
         });
     g.markOutput(d.color);
     g.markOutput(d.historyDepth);
-    history.written = true;
 }
 
 TextureHandle Reflections::Impl::addHiZView(FrameGraph& g, TextureHandle hizPyramid) {

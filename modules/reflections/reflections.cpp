@@ -28,19 +28,16 @@ std::vector<gpu::Binding> bindings(std::initializer_list<std::pair<uint32_t, VkD
 }
 
 // Per material: mode, roughness scale, roughness override (-1: none), max screen-space
-// roughness. Materials without the extension, and glTF's default material, are off.
+// roughness. Every lit material reflects (reflectionsOf), glTF's default material included.
 std::vector<glm::vec4> materialTable(const Scene& scene) {
     std::vector<glm::vec4> table;
-    for (const Material& m : scene.materials) {
-        if (!m.reflections || m.unlit) {
-            table.emplace_back(0.0f, 1.0f, -1.0f, 0.0f);
-            continue;
-        }
-        const MaterialReflections& r = *m.reflections;
+    auto row = [&](const Material& m) {
+        const MaterialReflections r = reflectionsOf(m);
         table.emplace_back(float(uint32_t(r.mode)), r.roughnessScale, r.roughnessOverride.value_or(-1.0f),
                            r.maxScreenSpaceRoughness);
-    }
-    table.emplace_back(0.0f, 1.0f, -1.0f, 0.0f);
+    };
+    for (const Material& m : scene.materials) row(m);
+    row(Material{});
     table.resize(std::min<size_t>(table.size(), render::kMaxIndexedMaterials + 1));
     return table;
 }
@@ -70,7 +67,9 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
                                                    {6, kSampled},
                                                    {8, kSampled},
                                                    {9, kStorage},
-                                                   {10, kStorage}}),
+                                                   {10, kStorage},
+                                                   {11, kBuffer},
+                                                   {12, kSampled}}),
                                          0, "reflections.resolve")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings({{1, kSampled}, {2, kStorage}}), 0,
                                          "reflections.hiz_view")),
@@ -81,6 +80,31 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
     materialCount = uint32_t(table.size());
     materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                   "reflections.materials");
+    noProbeCubes = gpu::Image(c, {4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 6, true,
+                                  VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                              "reflections.no_probes");
+    noProbeRecords = gpu::Buffer(c, sizeof(probes::GpuProbe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+                                 "reflections.no_probe_records");
+    std::memset(noProbeRecords.mapped(), 0, sizeof(probes::GpuProbe));
+    c.submitAndWait([&](VkCommandBuffer cmd) {
+        gpu::transition(cmd, noProbeCubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        VkClearColorValue black{};
+        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
+        vkCmdClearColorImage(cmd, noProbeCubes.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &all);
+        gpu::transition(cmd, noProbeCubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    });
+}
+
+probes::ProbeSet Reflections::Impl::importNoProbes(FrameGraph& g) const {
+    probes::ProbeSet set;
+    set.cubes = g.importTexture("reflections.no_probes",
+                                {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
+                                {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
+    set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::GpuProbe)}, {noProbeRecords.get()});
+    return set;
 }
 
 void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w,
@@ -100,29 +124,23 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     // world radius of about r * z * pixelAngle.
     float pixelAngle = 2.0f * std::tan(cam.yfov * 0.5f) / float(h);
     float envMaxMip = float(renderer.environment().mipCount() - 1);
-    u.cone = glm::vec4(float(s.coneSamples), s.maxRoughness, envMaxMip, pixelAngle);
+    // Screen space off: a limit below every roughness, so nothing is traced and coverage is 0.
+    u.cone = glm::vec4(float(s.coneSamples), s.screenSpace ? s.maxRoughness : -1.0f, envMaxMip, pixelAngle);
     u.fade = glm::vec4(s.edgeFade, s.cameraFadeStart, s.cameraFadeEnd, s.distanceFadeStart);
     float exposure = std::max(renderer.options().exposure, 1e-6f);
     u.fade2 = glm::vec4(s.distanceFadeEnd, float(s.debugHizMip), 1.0f / exposure, 0.0f);
-    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid ? 1u : 0u, levels);
-    u.modes2 = glm::uvec4(uint32_t(s.debugView), s.multiBounce ? 1u : 0u, materialCount, 0u);
+    u.modes = glm::uvec4(uint32_t(s.trace), uint32_t(s.coverage), history.valid() ? 1u : 0u, levels);
+    uint32_t probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
+    u.modes2 = glm::uvec4(uint32_t(s.debugView), s.multiBounce ? 1u : 0u, materialCount, probeCount);
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 
 void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
     if (history.width == w && history.height == h) return;
-    history.color = gpu::Image(ctx,
-                               {w, h, render::kLinearFormat, 1, 1, false,
-                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                               "reflections.history.color");
-    history.depth = gpu::Image(ctx,
-                               {w, h, render::kDepthFormat, 1, 1, false,
-                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                               "reflections.history.depth");
+    history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
+    history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
     history.width = w;
     history.height = h;
-    history.valid = false;
-    history.written = false;
 }
 
 gpu::DescriptorWriter Reflections::Impl::writer() const {
@@ -140,21 +158,12 @@ void Reflections::Impl::dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::D
 }
 
 Reflections::Reflections(const gpu::Context& ctx, render::Renderer& renderer)
-    : impl_(std::make_unique<Impl>(ctx, renderer)) {
-    renderer.options().reflectionsComposite = true;
-}
+    : impl_(std::make_unique<Impl>(ctx, renderer)) {}
 
-Reflections::~Reflections() {
-    impl_->renderer.options().reflectionsComposite = false;
-}
-
-void Reflections::setActive(bool active) {
-    impl_->renderer.options().reflectionsComposite = active;
-    if (!active) impl_->history.valid = false;
-}
+Reflections::~Reflections() = default;
 
 void Reflections::resetHistory() {
-    impl_->history.valid = false;
+    impl_->history.invalidate();
 }
 
 const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode) {
@@ -204,7 +213,6 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);
-    m.history.valid = true;
     return out;
 }
 

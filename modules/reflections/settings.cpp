@@ -9,6 +9,9 @@ std::vector<SettingDesc> settingsTable() {
     return {
         {"reflections.enabled", T::Bool, "", 0, 1, 1, {},
          "Run the reflections module; off leaves the renderer's prefiltered-environment specular."},
+        {"reflections.screen_space", T::Bool, "", 0, 1, 1, {},
+         "Trace screen space first in the fallback chain; off: probes and the sky only (the bench's "
+         "`probes` method)."},
         {"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
          "Screen-space tracer: hierarchical min/max Hi-Z traversal, or the linear march with binary "
          "refinement kept as the baseline."},
@@ -50,6 +53,9 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
          "Build the colour pyramid from the previous frame's final image reprojected, so "
          "reflections of reflections accumulate over frames."},
+        {"reflections.probes", T::Bool, "", 0, 1, 1, {},
+         "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
+         "chain; off: what screen space leaves goes to the sky."},
         {"reflections.debug_view", T::Enum, "", 0, 6, 0,
          {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
@@ -59,9 +65,24 @@ std::vector<SettingDesc> settingsTable() {
     };
 }
 
+app::ModuleInfo moduleInfo() {
+    return {"reflections",
+            settingsTable(),
+            {{"reflection", "pre-Fresnel reflection radiance (rgb), 0 where nothing reflects"},
+             {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1)"},
+             {"iterations", "screen-space trace iterations per pixel"},
+             {"hiz", "closest and farthest depth of the pixel's cell at reflections.debug_hiz_mip"},
+             {"hit", "trace output: hit pixel x, y, hit depth or a negative miss code, iterations"}},
+            "reflections.debug_view",
+            "reflections.enabled"};
+}
+
+ReflectionSettings::ReflectionSettings() : ReflectionSettings(from(Settings(settingsTable()))) {}
+
 ReflectionSettings ReflectionSettings::from(const Settings& s) {
-    ReflectionSettings r;
+    ReflectionSettings r{Blank{}};
     r.enabled = s.getBool("reflections.enabled");
+    r.screenSpace = s.getBool("reflections.screen_space");
     r.trace = TraceMode(s.getInt("reflections.trace"));
     r.maxIterations = s.getInt("reflections.max_iterations");
     r.linearPreSteps = s.getInt("reflections.linear_pre_steps");
@@ -80,6 +101,7 @@ ReflectionSettings ReflectionSettings::from(const Settings& s) {
     r.distanceFadeStart = s.getFloat("reflections.distance_fade_start");
     r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
     r.multiBounce = s.getBool("reflections.multi_bounce");
+    r.probes = s.getBool("reflections.probes");
     r.debugView = DebugView(s.getInt("reflections.debug_view"));
     r.debugHizMip = s.getInt("reflections.debug_hiz_mip");
     return r;

@@ -44,7 +44,7 @@ void main() {
     uvec3 clamped = min(texel, uvec3(pc.size - 1u, pc.size - 1u, 5u));
     mat3 frame = tangentFrame(cubeTexelDirection(clamped, pc.size));
 
-    vec3 sum = vec3(0.0);
+    vec4 sum = vec4(0.0);  // rgba: a probe's premultiplied radiance and its coverage filter alike
     float weight = 0.0;
     for (uint base = 0u; base < pc.samples; base += GROUP) {
         uint count = min(GROUP, pc.samples - base);
@@ -54,10 +54,10 @@ void main() {
         for (uint i = 0u; i < count; ++i) {
             vec4 s = batch[i];
             if (s.w < 0.0) continue;
-            sum += textureLod(radiance, frame * s.xyz, s.w).rgb * s.z;  // weighted by NdotL
+            sum += textureLod(radiance, frame * s.xyz, s.w) * s.z;  // weighted by NdotL
             weight += s.z;
         }
         barrier();
     }
-    if (inside) imageStore(target, ivec3(texel), vec4(sum / max(weight, 1e-6), 1.0));
+    if (inside) imageStore(target, ivec3(texel), sum / max(weight, 1e-6));
 }

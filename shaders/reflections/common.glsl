@@ -27,7 +27,7 @@ layout(set = 0, binding = 0, std140) readonly buffer ReflectionFrame {
     // The trace mode and the debug view are also the trace's and the composite's specialization
     // constants; the shaders read those.
     uvec4 modes;    // trace mode (0 hiz, 1 linear), coverage (0 hit, 1 visibility), history valid, Hi-Z levels
-    uvec4 modes2;   // debug view, multi-bounce, material count, 0
+    uvec4 modes2;   // debug view, multi-bounce, material count, local probe count
 } rf;
 
 // Per material (index in the G-buffer's flags): mode, roughness scale, roughness override

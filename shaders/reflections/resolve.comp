@@ -8,6 +8,9 @@
 // reaches behind the Hi-Z cell's closest surface, until the weights add up to one.
 #include "reflections/common.glsl"
 #include "reflections/material.glsl"
+#define PROBES_BUFFER_BINDING 11
+#define PROBES_CUBES_BINDING 12
+#include "common/probes.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -95,7 +98,11 @@ void main() {
         vec3 p = worldAt(px, depth);
         vec3 v = normalize(p - rf.camera.xyz);
         vec3 r = reflect(v, normalize(normalRough.xyz));
-        vec3 env = textureLod(envSpecular, r, m.roughness * rf.cone.z).rgb;
+        // The fallback chain beyond screen space: local probes, then the sky.
+        vec3 n = normalize(normalRough.xyz);
+        vec4 probe = sampleProbes(rf.modes2.w, p, n, r, m.roughness);
+        vec3 sky = textureLod(envSpecular, r, m.roughness * rf.cone.z).rgb;
+        vec3 env = probe.rgb + (1.0 - probe.a) * sky;
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
         vec4 hit = texelFetch(hitTex, pixel, 0);
@@ -110,7 +117,7 @@ void main() {
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
         reflection = vec4(max(radiance, vec3(0.0)), coverage);
-        method = vec4(coverage, 0.0, 1.0 - coverage, 1.0);
+        method = vec4(coverage, (1.0 - coverage) * probe.a, (1.0 - coverage) * (1.0 - probe.a), 1.0);
     }
     imageStore(reflectionOut, pixel, reflection);
     imageStore(methodOut, pixel, method);

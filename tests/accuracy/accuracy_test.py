@@ -3,11 +3,18 @@
 
     accuracy_test.py TOOLS... --view SCENE.CAMERA --method NAME     one suite view and method
     accuracy_test.py TOOLS... --agreement                           the 40 dB mirror-floor case
+    accuracy_test.py TOOLS... --probe-gain SCENE.CAMERA [--scores DIR]  with probes against without
     accuracy_test.py TOOLS... --measure                             print today's numbers as thresholds
 
 Thresholds live in thresholds.json beside this file (and nowhere else). Rendering and scoring
 are speculum-bench's own functions, so the tests and the bench measure the same way. Exit 77
 (ctest's skip) when speculum-capture has no reflections module yet.
+
+--probe-gain compares two methods of thresholds.json's "probe_gain" on one view (hiz+probes
+against hiz): the PSNR with probes must be at least the PSNR without less a small tolerance,
+and at least "min_gain_db" above it on the views listed there. With --scores it reads the two
+methods' scores that the view's own tests wrote (ctest runs those first: a fixture), and
+measures only what is missing.
 """
 import argparse
 import json
@@ -36,11 +43,56 @@ def measure(tools, doc, view, method, out, cache):
     ref_dir, _ = bench.render_reference(tools, view, doc["size"], doc["reference"], cache)
     exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
     name = f"{view['scene']}.{view['camera']}.{method}"
+    (out / f"{name}.scores.json").unlink(missing_ok=True)  # never leave a previous run's scores
     image, refl_ms, _, _ = bench.capture(tools, view, doc["size"], doc["methods"][method], "reflection", suite,
                                          out / name)
     scores = bench.score(tools, image, ref_dir, "reflection", exposure, out / f"{name}.heatmap.png")
     scores["reflection_ms"] = refl_ms
+    # Read by --probe-gain (the view's gain test) so that it need not render the view again.
+    (out / f"{name}.scores.json").write_text(json.dumps(scores, indent=2))
     return scores
+
+
+def view_methods(doc, key):
+    """The methods a view is tested with: those its entry lists (all of them when it lists none)."""
+    return list(doc["views"][key]) or list(doc["methods"])
+
+
+def saved_scores(scores_dir, name):
+    """Where the test of view and method NAME (VIEW.METHOD) left its scores."""
+    return Path(scores_dir) / name / f"{name}.scores.json"
+
+
+def probe_gain(tools, doc, key, scores_dir, out, cache):
+    rule = doc["probe_gain"]
+    got = {}
+    for method in (rule["without"], rule["with"]):
+        name = f"{key}.{method}"
+        saved = saved_scores(scores_dir, name) if scores_dir else None
+        if saved and saved.exists():
+            got[method] = json.loads(saved.read_text())
+            print(f"{name}: scores from {saved}")
+        else:
+            got[method] = measure(tools, doc, view_of(key), method, out, cache)
+    a, b = got[rule["without"]], got[rule["with"]]
+    if a["psnr_db"] is None or b["psnr_db"] is None:
+        print(f"FAIL {key}: no PSNR ({rule['without']} {a['psnr_db']}, {rule['with']} {b['psnr_db']})")
+        return False
+    gain = b["psnr_db"] - a["psnr_db"]
+    floor = -rule["psnr_tolerance_db"]
+    wanted = rule.get("min_gain_db", {}).get(key)
+    print(f"{key}: {rule['with']} {b['psnr_db']:.2f} dB, {rule['without']} {a['psnr_db']:.2f} dB, gain {gain:+.2f} dB "
+          f"(gross {a['gross_share']:.4f} -> {b['gross_share']:.4f}); must be >= {floor:+.2f} dB"
+          + (f" and >= {wanted:+.2f} dB" if wanted is not None else ""))
+    ok = True
+    if gain < floor:
+        print(f"FAIL {key}: {rule['with']} is {-gain:.2f} dB worse than {rule['without']} "
+              f"(tolerance {rule['psnr_tolerance_db']} dB)")
+        ok = False
+    if wanted is not None and gain < wanted:
+        print(f"FAIL {key}: {rule['with']} gains {gain:.2f} dB over {rule['without']}, less than {wanted} dB")
+        ok = False
+    return ok
 
 
 def check(scores, limits, label):
@@ -70,7 +122,7 @@ def agreement(tools, doc, out, cache):
     subprocess.run([sys.executable, str(HERE / "make_agreement_scene.py"), str(scene_dir)], check=True)
     view = {"scene": "mirror_wall", "camera": "main", "file": str(scene_dir / "mirror_wall.gltf")}
     ok = True
-    for method in doc["methods"]:
+    for method in doc["agreement"].get("methods", doc["methods"]):
         ok &= check(measure(tools, doc, view, method, out, cache), doc["agreement"], f"agreement {method}")
     return ok
 
@@ -86,34 +138,51 @@ def main():
     p.add_argument("--method")
     p.add_argument("--agreement", action="store_true")
     p.add_argument("--measure", action="store_true")
+    p.add_argument("--probe-gain", metavar="SCENE.CAMERA", help="with probes against without on one view")
+    p.add_argument("--scores", help="folder of the per-view tests' outputs (--probe-gain reads their scores)")
     args = p.parse_args()
     doc = load_thresholds(args.thresholds)
     out, cache = Path(args.out), Path(args.cache)
     out.mkdir(parents=True, exist_ok=True)
+    if args.probe_gain and args.scores and all(
+            saved_scores(args.scores, f"{args.probe_gain}.{m}").exists()
+            for m in (doc["probe_gain"]["without"], doc["probe_gain"]["with"])):
+        # Both scores are there, so the capture has the module: no probe capture, no rendering.
+        sys.exit(0 if probe_gain(args, doc, args.probe_gain, args.scores, out, cache) else 1)
     probe_view = view_of(next(iter(doc["views"])))
     if not bench.capture_has_reflections(args, probe_view, out / "probe"):
         print("SKIP: speculum-capture has no reflections module yet (--aov reflection is exit 2)")
         sys.exit(SKIP)
     if args.agreement:
         sys.exit(0 if agreement(args, doc, out, cache) else 1)
+    if args.probe_gain:
+        if args.probe_gain not in doc["views"]:
+            bench.fail(f"{args.thresholds}: no view '{args.probe_gain}'", 2)
+        sys.exit(0 if probe_gain(args, doc, args.probe_gain, args.scores, out, cache) else 1)
     if args.measure:
         margin = doc["margin"]
-        table = {}
+        table, gains = {}, {}
+        rule = doc.get("probe_gain")
         for key in doc["views"]:
             table[key] = {}
-            for method in doc["methods"]:
+            for method in view_methods(doc, key):
                 s = measure(args, doc, view_of(key), method, out, cache)
                 table[key][method] = {"psnr_min": round(s["psnr_db"] - margin["psnr_db"], 2),
                                       "mae_max": round(s["mae"] * margin["mae_factor"], 4),
                                       "gross_max": round(s["gross_share"] + margin["gross_share"], 4)}
                 print(f"{key} {method}: PSNR {s['psnr_db']:.3f} MAE {s['mae']:.5f} gross {s['gross_share']:.5f} "
                       f"reflection {s['reflection_ms']:.2f} ms", file=sys.stderr)
-        print(json.dumps(table, indent=2))
+                table[key][method]["_measured"] = {"psnr_db": round(s["psnr_db"], 3), "mae": round(s["mae"], 5),
+                                                   "gross_share": round(s["gross_share"], 5)}
+            if rule and rule["with"] in table[key] and rule["without"] in table[key]:
+                gains[key] = round(table[key][rule["with"]]["_measured"]["psnr_db"]
+                                   - table[key][rule["without"]]["_measured"]["psnr_db"], 3)
+        print(json.dumps({"views": table, "probe_gain_db": gains}, indent=2))
         return
-    if args.view not in doc["views"] or args.method not in doc["views"][args.view]:
+    if args.view not in doc["views"] or args.method not in view_methods(doc, args.view):
         bench.fail(f"{args.thresholds}: no thresholds for view '{args.view}' and method '{args.method}'", 2)
     scores = measure(args, doc, view_of(args.view), args.method, out, cache)
-    sys.exit(0 if check(scores, doc["views"][args.view][args.method], f"{args.view} {args.method}") else 1)
+    sys.exit(0 if check(scores, doc["views"][args.view].get(args.method, {}), f"{args.view} {args.method}") else 1)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,9 @@ for each method runs speculum-capture with warm-up frames, reads the per-pass GP
 medians from timings.json (reflection ms = the sum of the reflections.* passes) and scores the
 method's reflection AOV against the reference with speculum-metrics (PSNR, MAE and gross-error
 share on reflective pixels). Writes results.csv, results.json, chart.png and chart.svg (x =
-reflection ms, y = PSNR, one colour per method, Pareto front), heatmaps/*.png and summary.md.
+reflection ms, y = PSNR, one colour per method, Pareto front), heatmaps/*.png and summary.md
+(with what the probes add: each METHOD+probes against METHOD). `--replot --out DIR` rewrites
+the chart and summary from DIR/results.json without rendering.
 
 Until the capture has the reflections module (`--aov reflection` is exit 2), it benches the one
 method the engine has, "env_only" (the split-sum sky on reflective surfaces), on the linear AOV.
@@ -292,13 +294,29 @@ def write_results(out, suite, rows, paths, seconds):
     print(f"speculum-bench: {len(rows)} runs in {seconds:.0f} s; results in {out}")
 
 
+# One colour per method that stays the same from run to run (and from chart to chart): the known
+# methods keep theirs; any other takes the next free tab10 colour in name order.
+KNOWN_COLOURS = {"linear": 1, "hiz": 0, "probes": 2, "hiz+probes": 3}
+
+
+def method_colours(methods, cmap):
+    free = [i for i in range(10) if i not in KNOWN_COLOURS.values()]
+    colours, extra = {}, 0
+    for m in methods:
+        if m in KNOWN_COLOURS:
+            colours[m] = cmap(KNOWN_COLOURS[m])
+        else:
+            colours[m] = cmap(free[extra % len(free)])
+            extra += 1
+    return colours
+
+
 def chart(out, rows, configs):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    methods = sorted({r["method"] for r in rows})
-    colours = {m: plt.get_cmap("tab10")(i) for i, m in enumerate(methods)}
+    colours = method_colours(sorted({r["method"] for r in rows}), plt.get_cmap("tab10"))
     markers = {s: "osD^v<>"[i % 7] for i, s in enumerate(sorted({r["size"] for r in rows}))}
     for r in rows:
         if r["psnr_db"] is not None:
@@ -314,7 +332,8 @@ def chart(out, rows, configs):
     front = sorted((c for c in configs if c["pareto"]), key=lambda c: c["reflection_ms"])
     if front:
         ax.step([c["reflection_ms"] for c in front], [c["psnr_db"] for c in front], where="post", color="black",
-                linestyle="--", linewidth=1, label="Pareto front")
+                linestyle="--", linewidth=1, marker="o", markersize=14, markerfacecolor="none",
+                label="Pareto front")  # rings: a one-point front has no line to draw
     ax.set_xlabel("reflection ms (GPU timestamp medians of the reflections.* passes)")
     ax.set_ylabel("PSNR on reflective pixels (dB, clamped linear)")
     ax.set_title("Speed against accuracy (large markers: mean over views; small: one view)")
@@ -343,6 +362,22 @@ def summary(out, rows, configs, paths, seconds):
         lines.append(f"| {c['method']} | {c['size']} | {fmt(c['reflection_ms'])} | {fmt(c['frame_ms'])} | "
                      f"{fmt(c['psnr_db'])} | {fmt(c['mae'], 4)} | {fmt(c['gross_share'], 4)} | "
                      f"{'yes' if c['pareto'] else ''} |")
+    pairs = [(m, m + "+probes") for m in sorted({c["method"] for c in configs})
+             if any(c["method"] == m + "+probes" for c in configs)]
+    if pairs:
+        lines += ["", "## What the probes add (mean over views)", "",
+                  "| size | without | with | PSNR gain dB | gross share without | with | ratio | reflection ms added |",
+                  "|---|---|---|---|---|---|---|---|"]
+        by = {(c["method"], c["size"]): c for c in configs}
+        for base, withp in pairs:
+            for size in sorted({c["size"] for c in configs}):
+                a, b = by.get((base, size)), by.get((withp, size))
+                if not a or not b or a["psnr_db"] is None or b["psnr_db"] is None:
+                    continue
+                ratio = b["gross_share"] / a["gross_share"] if a["gross_share"] > 0 else None
+                lines.append(f"| {size} | {base} | {withp} | {b['psnr_db'] - a['psnr_db']:+.2f} | "
+                             f"{fmt(a['gross_share'], 4)} | {fmt(b['gross_share'], 4)} | {fmt(ratio)} | "
+                             f"{b['reflection_ms'] - a['reflection_ms']:+.2f} |")
     lines += ["", "## Where each method stands", ""]
     for method in sorted({c["method"] for c in configs}):
         mine = [c for c in configs if c["method"] == method]
@@ -368,15 +403,24 @@ def summary(out, rows, configs, paths, seconds):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--suite", required=True, help="suite JSON (tests/bench/suite.json)")
+    p.add_argument("--suite", help="suite JSON (tests/bench/suite.json)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--cache", help="reference image cache (default OUT/reference-cache)")
-    p.add_argument("--capture", required=True, help=argparse.SUPPRESS)
-    p.add_argument("--reference", required=True, help=argparse.SUPPRESS)
-    p.add_argument("--metrics", required=True, help=argparse.SUPPRESS)
+    p.add_argument("--replot", action="store_true",
+                   help="rewrite chart and summary.md from OUT/results.json (no rendering)")
+    p.add_argument("--capture", help=argparse.SUPPRESS)
+    p.add_argument("--reference", help=argparse.SUPPRESS)
+    p.add_argument("--metrics", help=argparse.SUPPRESS)
     args = p.parse_args()
+    if args.replot:
+        out = Path(args.out)
+        doc = json.loads((out / "results.json").read_text())
+        write_results(out, doc["suite"], doc["rows"], doc.get("stability", []), doc["seconds"])
+        return
+    if not args.suite:
+        fail("--suite FILE.json is required", 2)
     for tool in (args.capture, args.reference, args.metrics):
-        if not os.access(tool, os.X_OK):
+        if not tool or not os.access(tool, os.X_OK):
             fail(f"{tool}: not built (cmake --build the build folder first)", 2)
     bench(args, args)
 

@@ -36,7 +36,10 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hiz");
     gpu::Buffer hitBuffer(ctx, VkDeviceSize(w) * h * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hit");
     render::FrameInputs frame{camera, camera};
-    app::LitHook hook = [&](FrameGraph& fg, const render::GBuffer& g, TextureHandle lit, app::ModuleAovs& m) {
+    app::LitHook hook;
+    hook.modules = {reflections::moduleInfo()};
+    hook.moduleSpecular = true;
+    hook.addPasses = [&](FrameGraph& fg, const render::GBuffer& g, TextureHandle lit, app::ModuleAovs& m) {
         reflections::ReflectionOutputs out = module.addPasses(fg, {g, lit, frame}, s);
         m.provided["reflection"] = {out.reflection, 3};
         struct Data {

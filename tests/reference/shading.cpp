@@ -124,7 +124,7 @@ Renderer::Impl::Impl(const Scene& s, const Options& o)
     tracer = std::make_unique<Tracer>(scene, doubleSided);
     // Any lit surface without traced reflections takes the split-sum sky.
     bool splitSum = std::any_of(materials.begin(), materials.end(), [](const Material& m) {
-        return !m.unlit && !(m.reflections && m.reflections->mode != ReflectionMode::Off);
+        return !m.unlit && !reflects(m);
     });
     if (splitSum) sky.prepare();
 }
@@ -169,7 +169,7 @@ Surface Renderer::Impl::surface(const Hit& hit, glm::vec3 dir) const {
     s.baseColor = glm::vec3(base);
     s.unlit = m.unlit;
     // As the module's pixelMaterial (shaders/reflections/material.glsl): unlit never reflects.
-    s.reflective = !m.unlit && m.reflections && m.reflections->mode != ReflectionMode::Off;
+    s.reflective = reflects(m);
     glm::vec3 n = glm::normalize(lerp(g.normals));
     if (m.unlit) {
         s.normal = backFacing ? -n : n;
@@ -180,7 +180,7 @@ Surface Renderer::Impl::surface(const Hit& hit, glm::vec3 dir) const {
     s.metallic = std::clamp(m.metallic * mr.b, 0.0f, 1.0f);
     s.roughness = std::clamp(m.roughness * mr.g, 0.0f, 1.0f);
     if (s.reflective) {
-        const MaterialReflections& r = *m.reflections;
+        const MaterialReflections r = reflectionsOf(m);
         s.reflectionRoughness = r.roughnessOverride ? std::clamp(*r.roughnessOverride, 0.0f, 1.0f)
                                                     : std::clamp(s.roughness * r.roughnessScale, 0.0f, 1.0f);
     }

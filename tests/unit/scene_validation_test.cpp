@@ -227,6 +227,7 @@ TEST(SceneValidation, SpeculumExtensionValues) {
     expectBadEdit("probe_blend", probe({{"blendDistance", -0.5}}), n + "blendDistance");
     expectBadEdit("probe_res", probe({{"resolution", 0}}), n + "resolution");
     expectBadEdit("probe_res_float", probe({{"resolution", 64.5}}), n + "resolution");
+    expectBadEdit("probe_res_not_pow2", probe({{"resolution", 100}}), n + "resolution");
     expectBadEdit("probe_update", probe({{"update", "sometimes"}}), n + "update");
     expectBadEdit("probe_order", probe({{"order", "first"}}), n + "order");
 }

@@ -47,10 +47,13 @@ using TextureHandle = Handle<TextureTag>;
 using BufferHandle = Handle<BufferTag>;
 
 struct TextureDesc {
-    // Absolute size when width/height > 0; otherwise ceil(output size * relativeScale).
+    // Absolute size when width/height > 0; otherwise ceil(size * relativeScale) of `relativeTo`
+    // (a texture of the same graph: half-resolution passes follow their full-resolution input)
+    // or, when that is not valid, of the graph's output.
     uint32_t width = 0;
     uint32_t height = 0;
     float relativeScale = 1.0f;
+    TextureHandle relativeTo;
     VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     uint32_t mips = 1;
     uint32_t layers = 1;  // 6 * n for cube arrays
@@ -108,6 +111,39 @@ struct ImportedBuffer {
 
 class FrameGraph;
 class PassContext;
+
+// History that lives across frames (DESIGN.md section 3): two images of one description that the
+// graph swaps each frame. FrameGraph::importHistory() gives this frame's `previous` (what the last
+// executed frame wrote) and the `current` image to write; execute() commits it: when a pass that
+// survived culling wrote `current`, it becomes the next frame's previous and the history is valid;
+// when none did, the history is not valid. Both images stay in SHADER_READ_ONLY_OPTIMAL between
+// frames (their owner puts them there once, gpu::HistoryImages does).
+class History {
+public:
+    History() = default;
+    History(const TextureDesc& desc, VkImage first, VkImage second, VkImageUsageFlags usage)
+        : desc_(desc), images_{first, second}, usage_(usage) {}
+    // The previous image holds the last executed frame's write.
+    bool valid() const { return valid_; }
+    // Camera cuts, scene changes, frames the owner skipped: the next previous is not valid.
+    void invalidate() { valid_ = false; }
+    VkImage previousImage() const { return images_[1 - current_]; }
+    VkImage currentImage() const { return images_[current_]; }
+
+private:
+    friend class FrameGraph;
+    TextureDesc desc_;
+    VkImage images_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkImageUsageFlags usage_ = 0;
+    uint32_t current_ = 0;
+    bool valid_ = false;
+};
+
+struct HistoryHandles {
+    TextureHandle previous;  // read it; its content means something only when `valid`
+    TextureHandle current;   // write it this frame (all of it: its old content is discarded)
+    bool valid = false;      // History::valid() when imported
+};
 
 // Given to a pass's setup function: declares what the pass creates, reads and writes.
 class PassBuilder {
@@ -265,14 +301,22 @@ public:
 
     TextureHandle importTexture(const std::string& name, const TextureDesc& desc, const ImportedTexture& texture);
     BufferHandle importBuffer(const std::string& name, const BufferDesc& desc, const ImportedBuffer& buffer);
+    // Imports both images of a history (NAME.previous, NAME.current); execute() swaps and
+    // validates it. The History must outlive execute().
+    HistoryHandles importHistory(const std::string& name, History& history);
     // Keeps the producers of this resource alive through culling.
     void markOutput(TextureHandle h);
     void markOutput(BufferHandle h);
 
     // Pure CPU. Throws FrameGraphError for user errors.
     const CompiledGraph& compile(const ResourceAllocator& allocator);
-    // Records every surviving pass in order into cmd, each with its barriers, label and timestamps.
+    // Records every surviving pass in order into cmd, each with its barriers, label and timestamps,
+    // then commits the imported histories.
     void execute(FrameGraphExecutor& executor, VkCommandBuffer cmd);
+    // Swaps every history imported this frame whose current image a surviving pass writes, and
+    // marks the others not valid. execute() calls it; public for hosts that record the compiled
+    // passes themselves and for the unit tests (no GPU).
+    void commitHistories();
 
     const CompiledGraph& compiled() const;
     const FrameGraphConfig& config() const;

@@ -85,6 +85,12 @@ struct Material {
     std::optional<MaterialReflections> reflections;  // SPECULUM_reflections
 };
 
+// Every lit material reflects (DESIGN.md section 4): SPECULUM_reflections only tunes it or turns
+// it off, so a plain glTF export's chrome reflects. Unlit materials never reflect. The renderer,
+// the reflections module and the reference renderer all ask this one function.
+MaterialReflections reflectionsOf(const Material& material);
+bool reflects(const Material& material);
+
 enum class LightType : uint8_t { Directional, Point, Spot };
 
 struct Light {  // KHR_lights_punctual, resolved to world space

@@ -2,6 +2,7 @@
 // images. Shared by speculum-capture, speculum-game, the tests and the bench.
 #pragma once
 
+#include "speculum/app/module.hpp"
 #include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/render/renderer.hpp"
@@ -16,10 +17,8 @@
 
 namespace speculum::app {
 
-// AOVs the engine writes itself, and those a module provides through the LitHook (the
-// reflections module: reflection, method, iterations, hiz).
+// AOVs the engine writes itself; modules register theirs (ModuleInfo::aovs).
 const std::vector<std::string>& availableAovs();
-const std::vector<std::string>& moduleAovs();
 
 struct AovImage {
     uint32_t width = 0;
@@ -54,10 +53,18 @@ struct ModuleAovs {
     std::map<std::string, AovSource> provided;
 };
 
-// Hook that lets the caller add passes between lighting and tonemapping (modules) or after
-// tonemapping (presentation). Returns the (possibly new) lit handle.
-using LitHook =
-    std::function<TextureHandle(FrameGraph&, const render::GBuffer&, TextureHandle lit, ModuleAovs&)>;
+// The host's module chain for one frame: passes between lighting and tonemapping. `addPasses`
+// returns the (possibly new) lit handle.
+struct LitHook {
+    std::function<TextureHandle(FrameGraph&, const render::GBuffer&, TextureHandle lit, ModuleAovs&)> addPasses;
+    // The chain composites the specular ambient of reflective pixels itself this frame, so
+    // render.lighting leaves it out (render::LightingOptions::moduleSpecular).
+    bool moduleSpecular = false;
+    // What the chain's modules registered: render() accepts their AOVs and names them in errors.
+    std::vector<ModuleInfo> modules;
+    explicit operator bool() const { return bool(addPasses); }
+};
+// Adds passes after tonemapping (presentation).
 using PresentHook = std::function<void(FrameGraph&, TextureHandle color)>;
 
 class FrameRunner {

@@ -2,6 +2,7 @@
 // Transient per-frame resources belong to the frame graph, not here.
 #pragma once
 
+#include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 
 #include <cstdint>
@@ -75,6 +76,22 @@ private:
     AllocationCounter counter_;
     Unique<VkImageView> view_;
     std::vector<Unique<VkImageView>> mipViews_;
+};
+
+// The two images of a frame-graph History (FrameGraph::importHistory), created cleared and in
+// SHADER_READ_ONLY_OPTIMAL as the graph expects them between frames. `desc.usage` gets
+// SAMPLED and TRANSFER_DST added.
+class HistoryImages {
+public:
+    HistoryImages() = default;
+    HistoryImages(const Context& ctx, ImageDesc desc, const std::string& name);
+    History& history() { return history_; }
+    const History& history() const { return history_; }
+    const ImageDesc& desc() const { return images_[0].desc(); }
+
+private:
+    Image images_[2];
+    History history_;
 };
 
 Unique<VkSampler> createSampler(const Context& ctx, VkFilter filter, VkSamplerAddressMode address,

@@ -29,7 +29,7 @@ inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;          // t
 // (emissive.a = flags | index << kMaterialIndexShift): modules look per-material settings up by
 // that index. A 16-bit float holds integers up to 2048 exactly, so up to 511 materials.
 inline constexpr uint32_t kFlagUnlit = 1;
-inline constexpr uint32_t kFlagReflective = 2;  // has SPECULUM_reflections mode != off
+inline constexpr uint32_t kFlagReflective = 2;  // reflects (scene.hpp reflects(): lit, mode != off)
 inline constexpr uint32_t kMaterialIndexShift = 2;
 inline constexpr uint32_t kMaxIndexedMaterials = 511;
 
@@ -58,9 +58,13 @@ struct RendererOptions {
     uint32_t shadowMapSize = 2048;
     float exposure = 1.0f;  // multiplies the scene's extras.exposure
     EnvironmentOptions environment;
-    // A reflections module composites the specular ambient of reflective pixels itself:
-    // render.lighting then leaves it out there (pixels with kFlagReflective).
-    bool reflectionsComposite = false;
+};
+
+// Per lighting pass: what the modules that follow it do this frame.
+struct LightingOptions {
+    // A module composites the specular ambient of reflective pixels (kFlagReflective) itself, so
+    // render.lighting leaves it out there.
+    bool moduleSpecular = false;
 };
 
 struct FrameInputs {
@@ -93,7 +97,8 @@ public:
     // tests against the prepass's depth without writing it; `depth` is that final depth.
     GBuffer addGBufferPasses(FrameGraph& graph, const FrameInputs& frame);
     // render.lighting: punctual lights (GGX + Lambert), shadows, IBL ambient, sky, emissive.
-    TextureHandle addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer);
+    TextureHandle addLightingPass(FrameGraph& graph, const FrameInputs& frame, const GBuffer& gbuffer,
+                                  const LightingOptions& lighting = {});
     // render.tonemap: exposure, ACES fit, sRGB encode into an RGBA8 image.
     TextureHandle addTonemapPass(FrameGraph& graph, TextureHandle linear);
 

@@ -9,7 +9,10 @@
 namespace speculum::reflections {
 
 // Settings are read each frame (the editor changes them live). With reflections.enabled off
-// the renderer keeps its own specular ambient and the module forgets its history.
-app::LitHook litHook(Reflections& module, const Settings& settings, const render::FrameInputs& frame);
+// the renderer keeps its own specular ambient and the module forgets its history. `probes`
+// (may be null) is composed before the module: its ProbeSet is the module's probe input
+// (reflections.probes=false hands it over with no probe in it).
+app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
+                     const render::FrameInputs& frame);
 
 }  // namespace speculum::reflections

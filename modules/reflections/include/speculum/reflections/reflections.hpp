@@ -4,10 +4,12 @@
 // module's README explains the technique, its failure modes and its settings.
 #pragma once
 
+#include "speculum/app/module.hpp"
 #include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/gpu/resources.hpp"
+#include "speculum/probes/probes.hpp"
 #include "speculum/render/renderer.hpp"
 #include "speculum/settings.hpp"
 
@@ -19,6 +21,8 @@ namespace speculum::reflections {
 // The module's settings table (reflections.*): the one description that drives JSON, --set,
 // the editor and the tests.
 std::vector<SettingDesc> settingsTable();
+// What the module registers with its host: the table, its AOVs, its debug views.
+app::ModuleInfo moduleInfo();
 
 enum class TraceMode : uint32_t { HiZ = 0, Linear = 1 };
 // How much of a pixel screen space covers: `hit` (a hit covers fully, fades aside) or
@@ -27,42 +31,55 @@ enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
 enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection };
 inline constexpr size_t kDebugViewCount = 7;
 
+// The values of settingsTable(). Its defaults are the table's (the constructor reads them), so
+// that no second copy of a default can drift from the table; tests/unit/settings_test.cpp checks
+// every field against the table.
 struct ReflectionSettings {
-    bool enabled = true;
-    TraceMode trace = TraceMode::HiZ;
-    int maxIterations = 64;
-    int linearPreSteps = 2;
-    int hizStartLevel = 2;
-    int hizStopLevel = 0;
-    float linearStride = 2.0f;
-    int linearMaxSteps = 512;
-    int refineSteps = 5;
-    float thickness = 0.08f;
-    int coneSamples = 8;
-    CoverageMode coverage = CoverageMode::Hit;
-    float maxRoughness = 0.6f;
-    float edgeFade = 0.05f;
-    float cameraFadeStart = -0.2f;
-    float cameraFadeEnd = -0.6f;
-    float distanceFadeStart = 40.0f;
-    float distanceFadeEnd = 60.0f;
-    bool multiBounce = true;
-    DebugView debugView = DebugView::None;
-    int debugHizMip = 3;
-
+    ReflectionSettings();
     static ReflectionSettings from(const Settings& settings);
+
+    bool enabled;
+    bool screenSpace;  // off: no ray is traced, the chain starts at the probes
+    TraceMode trace;
+    int maxIterations;
+    int linearPreSteps;
+    int hizStartLevel;
+    int hizStopLevel;
+    float linearStride;
+    int linearMaxSteps;
+    int refineSteps;
+    float thickness;
+    int coneSamples;
+    CoverageMode coverage;
+    float maxRoughness;
+    float edgeFade;
+    float cameraFadeStart;
+    float cameraFadeEnd;
+    float distanceFadeStart;
+    float distanceFadeEnd;
+    bool multiBounce;
+    bool probes;  // local probes in the fallback chain (off: screen space, then the sky)
+    DebugView debugView;
+    int debugHizMip;
+
+private:
+    struct Blank {};
+    explicit ReflectionSettings(Blank) {}
 };
 
 struct ReflectionInputs {
     render::GBuffer gbuffer;
     TextureHandle lit;  // this frame's lit HDR image (render.lighting)
     render::FrameInputs frame;
+    // The probes module's output (Probes::addPasses on the same graph); empty: no probes, what
+    // screen space leaves goes to the sky.
+    probes::ProbeSet probes;
 };
 
 struct ReflectionOutputs {
     TextureHandle lit;          // lit + reflection * DFG on reflective pixels (or a debug view)
     TextureHandle reflection;   // RGBA16F: rgb pre-Fresnel reflection radiance, a screen-space share
-    TextureHandle method;       // RGBA16F: r screen space, g probes (later), b environment weight
+    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky (they sum to 1)
     TextureHandle hit;          // RGBA32F: xy hit pixel position, z hit depth (< 0 miss), w iterations
     TextureHandle hiz;          // RG32F pyramid: x farthest, y closest depth per cell (reversed-Z)
     TextureHandle visibility;   // R8 pre-integrated visibility pyramid
@@ -78,12 +95,11 @@ public:
     Reflections(const Reflections&) = delete;
     Reflections& operator=(const Reflections&) = delete;
 
-    // Adds reflections.* passes after render.lighting. `hizView` adds the Hi-Z level view.
+    // Adds reflections.* passes after render.lighting, which must leave the specular ambient of
+    // reflective pixels to the module (LightingOptions::moduleSpecular): the composite adds it.
+    // `hizView` adds the Hi-Z level view.
     ReflectionOutputs addPasses(FrameGraph& graph, const ReflectionInputs& inputs,
                                 const ReflectionSettings& settings, bool hizView = false);
-    // Off: render.lighting keeps the specular ambient of reflective pixels and the history is
-    // forgotten; on: the module composites it (the default once constructed).
-    void setActive(bool active);
     // Forgets the previous frame (camera cuts, scene changes): the next colour pyramid is built
     // from that frame's own lit image.
     void resetHistory();

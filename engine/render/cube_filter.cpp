@@ -1,0 +1,79 @@
+// Box mip chain and GGX prefilter of a radiance cube (ibl_downsample.comp, ibl_prefilter.comp):
+// the environment and the probes record the same two steps.
+#include "speculum/render/cube_filter.hpp"
+
+#include <algorithm>
+
+namespace speculum::render {
+namespace {
+
+constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+constexpr uint32_t kGroup = 8;  // local size of the ibl_*.comp shaders
+
+uint32_t groups(uint32_t n) {
+    return (n + kGroup - 1) / kGroup;
+}
+
+// Push constants; layouts mirror the shaders' push_constant blocks.
+struct DownsamplePush {
+    uint32_t size;
+};
+struct PrefilterPush {
+    uint32_t size, samples;
+    float alpha;
+    uint32_t sourceSize;
+    float sourceMips;
+};
+
+}  // namespace
+
+CubeFilter::CubeFilter(const gpu::Context& ctx)
+    : ctx_(ctx),
+      downsample_(gpu::createComputePipeline(ctx, "engine/ibl_downsample.comp",
+                                             {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
+                                             sizeof(DownsamplePush), "render.environment.downsample")),
+      prefilter_(gpu::createComputePipeline(ctx, "engine/ibl_prefilter.comp",
+                                            {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
+                                            sizeof(PrefilterPush), "render.environment.prefilter")) {}
+
+void CubeFilter::recordBoxChain(VkCommandBuffer cmd, const gpu::Image& radiance, VkSampler sampler) const {
+    const uint32_t size = radiance.desc().width;
+    auto toReadOnly = [&](uint32_t mip) {
+        gpu::transition(cmd, radiance.get(), radiance.aspect(), VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, mip, 1);
+    };
+    toReadOnly(0);
+    downsample_.bind(cmd);
+    for (uint32_t m = 1; m < radiance.desc().mips; ++m) {
+        const uint32_t mipSize = std::max(1u, size >> m);
+        gpu::DescriptorWriter()
+            .sampled(0, radiance.mipView(m - 1), sampler)
+            .storage(1, radiance.mipView(m))
+            .push(ctx_, cmd, downsample_);
+        DownsamplePush p{mipSize};
+        vkCmdPushConstants(cmd, downsample_.layout(), kCompute, 0, sizeof(p), &p);
+        vkCmdDispatch(cmd, groups(mipSize), groups(mipSize), 6);
+        toReadOnly(m);
+    }
+}
+
+void CubeFilter::recordPrefilter(VkCommandBuffer cmd, const gpu::Image& radiance, VkSampler sampler,
+                                 std::span<const VkImageView> mipViews, uint32_t size, uint32_t firstMip,
+                                 uint32_t samples) const {
+    const uint32_t mips = uint32_t(mipViews.size());
+    prefilter_.bind(cmd);
+    for (uint32_t m = firstMip; m < mips; ++m) {
+        const uint32_t mipSize = std::max(1u, size >> m);
+        const float roughness = mips > 1 ? float(m) / float(mips - 1) : 0.0f;
+        gpu::DescriptorWriter().sampled(0, radiance.view(), sampler).storage(1, mipViews[m]).push(ctx_, cmd, prefilter_);
+        // Mip 0 is the mirror image: one sample of a lobe too narrow to reach past the texel.
+        PrefilterPush p{mipSize, m == 0 ? 1u : samples, m == 0 ? 1e-4f : roughness * roughness,
+                        radiance.desc().width, float(radiance.desc().mips)};
+        vkCmdPushConstants(cmd, prefilter_.layout(), kCompute, 0, sizeof(p), &p);
+        vkCmdDispatch(cmd, groups(mipSize), groups(mipSize), 6);
+    }
+}
+
+}  // namespace speculum::render

@@ -1,0 +1,183 @@
+// Capturing a probe: one frame graph per face at the probe's resolution with the renderer's own
+// passes (depth prepass, shadows, G-buffer, lighting), then probes.capture_bounce (the specular
+// ambient of reflective surfaces from the previous bake, then the sky) and probes.store (the face
+// into the probe's radiance cube, flipped vertically: see faceCamera). After the sixth face the
+// radiance cube's box chain and the sky's GGX prefilter write the probe's cube of the array.
+#include "module_impl.hpp"
+
+#include "speculum/core.hpp"
+
+#include <chrono>
+
+namespace speculum::probes {
+namespace {
+
+struct BouncePush {
+    glm::mat4 invViewProj;
+    glm::vec4 eye;
+    glm::uvec4 info;
+};
+static_assert(sizeof(BouncePush) == 96);
+
+TextureDesc descOf(const gpu::Image& image) {
+    const gpu::ImageDesc& d = image.desc();
+    return {.width = d.width, .height = d.height, .format = d.format, .mips = d.mips, .layers = d.layers, .cube = d.cube};
+}
+
+}  // namespace
+
+void Probes::Impl::captureFace(size_t index, uint32_t face) {
+    const ProbeInfo& info = probes[index];
+    const uint32_t res = info.probe.resolution;
+    FrameGraph fg(FrameGraphConfig{res, res});
+    render::FrameInputs frame;
+    frame.camera = frame.previousCamera = faceCamera(glm::vec3(info.gpu.center), face, res);
+    render::GBuffer g = renderer.addGBufferPasses(fg, frame);
+    // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
+    TextureHandle lit = renderer.addLightingPass(fg, frame, g, {.moduleSpecular = true});
+    TextureHandle array = fg.importTexture("probes.cubes", descOf(cubes),
+                                           {cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cubes.desc().usage});
+    BufferHandle recs = fg.importBuffer("probes.records", {records.size()}, {records.get()});
+    const gpu::Image& target = radiance[index];
+    TextureHandle cube = fg.importTexture("probes.radiance", descOf(target),
+                                          {target.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                           target.desc().usage});
+    struct Bounce {
+        render::GBuffer g;
+        TextureHandle lit, array, out;
+        BufferHandle recs;
+    };
+    const uint32_t visible = readyCount();
+    const render::Environment& env = renderer.environment();
+    const auto& b = fg.addPass<Bounce>(
+        "probes.capture_bounce", PassType::Compute,
+        [&](PassBuilder& pb, Bounce& d) {
+            d.g.depth = pb.read(g.depth, TextureUsage::Sampled);
+            d.g.albedo = pb.read(g.albedo, TextureUsage::Sampled);
+            d.g.normal = pb.read(g.normal, TextureUsage::Sampled);
+            d.g.emissive = pb.read(g.emissive, TextureUsage::Sampled);
+            d.lit = pb.read(lit, TextureUsage::Sampled);
+            d.array = pb.read(array, TextureUsage::Sampled);
+            d.recs = pb.read(recs, BufferUsage::StorageRead);
+            d.out = pb.write(pb.create("probes.face", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
+        },
+        [this, frame, visible, res, &env](const Bounce& d, PassContext& pc) {
+                        bounce.bind(pc.cmd());
+            gpu::DescriptorWriter()
+                .sampled(0, pc.view(d.g.depth), nearest)
+                .sampled(1, pc.view(d.g.albedo), nearest)
+                .sampled(2, pc.view(d.g.normal), nearest)
+                .sampled(3, pc.view(d.g.emissive), nearest)
+                .sampled(4, pc.view(d.lit), nearest)
+                .sampled(5, env.dfg().view(), env.sampler())
+                .buffer(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(d.recs))
+                .sampled(7, pc.view(d.array, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), sampler)
+                .sampled(8, env.specular().view(), env.sampler())
+                .storage(9, pc.view(d.out))
+                .push(ctx, pc.cmd(), bounce);
+            BouncePush p{frame.camera.invViewProj, glm::vec4(frame.camera.position, float(env.mipCount() - 1)),
+                         glm::uvec4(res, res, visible, 0u)};
+            vkCmdPushConstants(pc.cmd(), bounce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
+            vkCmdDispatch(pc.cmd(), (res + 7) / 8, (res + 7) / 8, 1);
+        });
+    struct Store {
+        TextureHandle face, cube;
+    };
+    const auto& s = fg.addPass<Store>(
+        "probes.store", PassType::Transfer,
+        [&](PassBuilder& pb, Store& d) {
+            d.face = pb.read(b.out, TextureUsage::TransferSrc);
+            d.cube = pb.write(cube, TextureUsage::TransferDst, Subresource{0, 1, face, 1});
+        },
+        [face, res](const Store& d, PassContext& pc) {
+            VkImageBlit blit{};
+            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            blit.srcOffsets[0] = {0, 0, 0};
+            blit.srcOffsets[1] = {int32_t(res), int32_t(res), 1};
+            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, face, 1};
+            // Rows reversed: the camera's rows run against the face's t axis (faceCamera).
+            blit.dstOffsets[0] = {0, int32_t(res), 0};
+            blit.dstOffsets[1] = {int32_t(res), 0, 1};
+            vkCmdBlitImage(pc.cmd(), pc.image(d.face), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(d.cube),
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
+        });
+    fg.markOutput(s.cube);
+    fg.compile(allocator);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
+    for (const auto& t : executor.readTimings()) ms += t.ms;
+    ++faces;
+}
+
+void Probes::Impl::prefilter(size_t index) {
+    const gpu::Image& source = radiance[index];
+    std::vector<VkImageView> views;
+    for (const auto& v : targetViews[index]) views.push_back(v.get());
+    auto start = std::chrono::steady_clock::now();
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        filter.recordBoxChain(cmd, source, sampler);
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
+        filter.recordPrefilter(cmd, source, sampler, views, faceSize, 0, uint32_t(settings.prefilterSamples));
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
+        gpu::transition(cmd, source.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+    });
+    ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    ready[index] = true;
+    writeRecords();
+}
+
+}  // namespace speculum::probes
+
+namespace speculum::probes {
+
+TextureHandle Probes::addDebugView(FrameGraph& graph, const render::GBuffer& gbuffer, const render::FrameInputs& frame,
+                                   const ProbeSet& set, DebugView view) {
+    Impl& m = *impl_;
+    std::optional<gpu::Pipeline>& pipeline = m.debug[size_t(view)];
+    if (!pipeline) {
+        constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipeline = gpu::createComputePipeline(m.ctx, "probes/debug.comp",
+                                              {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
+                                               {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
+                                               {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kCompute}},
+                                              sizeof(BouncePush), "probes.debug", {uint32_t(view)});
+    }
+    struct Data {
+        TextureHandle depth, normal, cubes, out;
+        BufferHandle records;
+    };
+    const float invExposure = 1.0f / std::max(m.renderer.options().exposure, 1e-6f);
+    const gpu::Pipeline* p = &*pipeline;
+    const auto& d = graph.addPass<Data>(
+        "probes.debug", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.depth = b.read(gbuffer.depth, TextureUsage::Sampled);
+            data.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
+            data.cubes = b.read(set.cubes, TextureUsage::Sampled);
+            data.records = b.read(set.records, BufferUsage::StorageRead);
+            data.out = b.write(b.create("probes.debug", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
+        },
+        [&m, p, frame, count = set.count, invExposure](const Data& data, PassContext& pc) {
+            VkExtent2D e = pc.extent(data.out);
+            p->bind(pc.cmd());
+            gpu::DescriptorWriter()
+                .sampled(0, pc.view(data.depth), m.nearest)
+                .sampled(1, pc.view(data.normal), m.nearest)
+                .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.records))
+                .sampled(3, pc.view(data.cubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), m.sampler)
+                .storage(4, pc.view(data.out))
+                .push(m.ctx, pc.cmd(), *p);
+            BouncePush push{frame.camera.invViewProj, glm::vec4(frame.camera.position, invExposure),
+                            glm::uvec4(e.width, e.height, count, 0u)};
+            vkCmdPushConstants(pc.cmd(), p->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+            vkCmdDispatch(pc.cmd(), (e.width + 7) / 8, (e.height + 7) / 8, 1);
+        });
+    return d.out;
+}
+
+}  // namespace speculum::probes

@@ -1,0 +1,119 @@
+// Local cubemap probes (SPECULUM_reflection_probe, kind local_cubemap): each probe's six faces
+// are rendered by the renderer's own passes through a frame graph at the probe's resolution,
+// GGX-prefiltered with the sky's prefilter (render::CubeFilter) and kept in one cube array that
+// lives across frames. The module's entry point, Probes::addPasses, imports the array and the
+// probe records into a frame graph and returns their handles; the reflections module takes
+// them as inputs (its fallback chain: screen space, then these probes, then the sky). The
+// module's README explains the technique, its failure modes and its settings.
+#pragma once
+
+#include "speculum/app/module.hpp"
+#include "speculum/framegraph.hpp"
+#include "speculum/gpu/context.hpp"
+#include "speculum/render/renderer.hpp"
+#include "speculum/settings.hpp"
+
+#include <glm/glm.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace speculum::probes {
+
+// The module's settings table (probes.*).
+std::vector<SettingDesc> settingsTable();
+// What the module registers with its host.
+app::ModuleInfo moduleInfo();
+
+enum class DebugView : uint32_t { None = 0, Influence = 1, Winner = 2 };
+
+// Defaults come from settingsTable() (the constructor reads them).
+struct ProbeSettings {
+    ProbeSettings();
+    static ProbeSettings from(const Settings& settings);
+
+    int bounces;           // bakes of every probe at start, each seeing the previous one
+    int prefilterSamples;  // GGX samples per texel of the rough mips
+    DebugView debugView;
+
+private:
+    struct Blank {};
+    explicit ProbeSettings(Blank) {}
+};
+
+// The shader-visible record, std430; its GLSL twin is `Probe` in shaders/common/probes.glsl.
+struct GpuProbe {
+    glm::mat4 worldToLocal{1.0f};  // the node's inverse world transform
+    glm::vec4 center{0.0f};        // xyz capture point (world), w shape (0 box, 1 sphere)
+    glm::vec4 extents{1.0f};       // xyz half-extents in node space (sphere: radius in x), w blend distance
+    glm::vec4 params{0.0f};        // x cube index in the array, y the array's last mip
+};
+static_assert(sizeof(GpuProbe) == 112);
+
+// A probe of the scene, as the module keeps it.
+struct ProbeInfo {
+    int node = -1;
+    std::string name;
+    ReflectionProbe probe;
+    GpuProbe gpu;
+    float volume = 0.0f;  // world volume of the influence shape (smaller wins at equal order)
+};
+
+// What the module hands to the next one: valid handles in the graph they were added to.
+struct ProbeSet {
+    TextureHandle cubes;   // cube array, SHADER_READ_ONLY: cube i is probe i's prefiltered radiance
+    BufferHandle records;  // GpuProbe[count], in blend order
+    uint32_t count = 0;    // 0: no probe (or probes off); the handles still name valid dummies
+};
+
+// Orders probes as the blend walks them: higher `order` first, then the smaller volume.
+void sortForBlending(std::vector<ProbeInfo>& probes);
+// The record of a probe node (world transform, shape, extents, blend distance).
+ProbeInfo describeProbe(const Scene& scene, int node);
+// A probe's camera for cube face `face` (+X, -X, +Y, -Y, +Z, -Z), 90 degrees: the image's
+// columns follow the Vulkan face's s axis and its rows the face's t axis after a vertical flip
+// (the capture stores each face flipped: see capture.cpp).
+render::CameraState faceCamera(glm::vec3 center, uint32_t face, uint32_t size, float znear = 0.05f);
+
+class Probes {
+public:
+    // Validates the scene's local cubemap probes against the device: throws Error(BadInput)
+    // naming the file, the node and the problem (resolution above the device's cube limit, more
+    // probes than the cube array holds). Allocates the array; captures nothing yet.
+    Probes(const gpu::Context& ctx, render::Renderer& renderer, const ProbeSettings& settings = {});
+    ~Probes();
+    Probes(const Probes&) = delete;
+    Probes& operator=(const Probes&) = delete;
+
+    // Captures what the update modes ask for this frame, in frame graphs of its own, submitted
+    // and finished before it returns: call it before the frame's graph is built. `once` and
+    // `on_demand` probes bake `bounces` times on the first call; `every_frame` probes capture all
+    // six faces every call; `time_sliced` probes one face per call, in turn, and are
+    // prefiltered after their sixth face. `progress` (when set) hears about each face baked.
+    using Progress = std::function<void(size_t done, size_t total)>;
+    void update(const Progress& progress = {});
+    // Asks for a bake of one probe (index in blend order) or of all (-1) at the next update().
+    void requestUpdate(int probe = -1);
+    // Imports the cube array and the records into `graph` (count 0 when `enabled` is false).
+    ProbeSet addPasses(FrameGraph& graph, bool enabled = true);
+    // probes.debug: the blend or the winning probe per pixel (DebugView), scaled by 1 / exposure
+    // like every debug view; returns the image that replaces the lit one.
+    TextureHandle addDebugView(FrameGraph& graph, const render::GBuffer& gbuffer, const render::FrameInputs& frame,
+                               const ProbeSet& set, DebugView view);
+
+    const std::vector<ProbeInfo>& probes() const;
+    // The cube array (tests): face size, mips, cubes.
+    const gpu::Image& cubes() const;
+    // Faces captured so far and their total GPU milliseconds (the bench reports ms per face).
+    size_t facesCaptured() const;
+    double captureMs() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace speculum::probes

@@ -1,0 +1,247 @@
+// The probes module's entry point and bookkeeping: probe records from the scene, validation
+// against the device, the cube array, update modes, and the frame graph imports.
+#include "module_impl.hpp"
+
+#include "speculum/core.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace speculum::probes {
+namespace {
+
+constexpr VkFormat kCubeFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+// The blend loop walks every probe for every reflective pixel: 64 keeps that loop bounded (and
+// a 64 x 6-layer array of 256^2 faces at 0.5 GiB fits lavapipe's 2 GiB heap).
+constexpr size_t kMaxProbes = 64;
+constexpr VkDeviceSize kMaxArrayBytes = VkDeviceSize(1) << 30;
+
+std::string probeName(const Scene& scene, int node) {
+    const std::string& n = scene.nodes[size_t(node)].name;
+    return "nodes[" + std::to_string(node) + "]" + (n.empty() ? "" : " \"" + n + "\"");
+}
+
+}  // namespace
+
+ProbeInfo describeProbe(const Scene& scene, int node) {
+    const Node& n = scene.nodes.at(size_t(node));
+    ProbeInfo info;
+    info.node = node;
+    info.name = probeName(scene, node);
+    info.probe = n.probe.value_or(ReflectionProbe{});
+    const ReflectionProbe& p = info.probe;
+    info.gpu.worldToLocal = glm::inverse(n.world);
+    info.gpu.center = glm::vec4(glm::vec3(n.world[3]), p.shape == ProbeShape::Sphere ? 1.0f : 0.0f);
+    info.gpu.extents = glm::vec4(p.extents, p.blendDistance);
+    float det = std::abs(glm::determinant(glm::mat3(n.world)));
+    info.volume = p.shape == ProbeShape::Sphere
+                      ? 4.0f / 3.0f * std::numbers::pi_v<float> * p.extents.x * p.extents.x * p.extents.x * det
+                      : 8.0f * p.extents.x * p.extents.y * p.extents.z * det;
+    return info;
+}
+
+void sortForBlending(std::vector<ProbeInfo>& probes) {
+    std::stable_sort(probes.begin(), probes.end(), [](const ProbeInfo& a, const ProbeInfo& b) {
+        if (a.probe.order != b.probe.order) return a.probe.order > b.probe.order;
+        return a.volume < b.volume;
+    });
+}
+
+render::CameraState faceCamera(glm::vec3 center, uint32_t face, uint32_t size, float znear) {
+    // Forward and the face's t axis (Vulkan cube face selection). The camera's up is t, so its
+    // right is forward x t = the face's s axis; rows then run against t, and the capture stores
+    // the face flipped vertically.
+    static const glm::vec3 forward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const glm::vec3 tAxis[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    return render::makeCamera(center, center + forward[face], tAxis[face], glm::radians(90.0f), size, size, znear);
+}
+
+Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettings& s)
+    : ctx(c), renderer(r), settings(s),
+      sampler(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
+      nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
+      bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp",
+                                        {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                         {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT}},
+                                        96, "probes.capture_bounce")),
+      filter(c), allocator(c.physicalDevice(), c.device()),
+      executor(c.instance(), c.physicalDevice(), c.device(), c.timestampPeriodNs()) {
+    const Scene& scene = r.scene();
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].probe && scene.nodes[i].probe->kind == ProbeKind::LocalCubemap)
+            probes.push_back(describeProbe(scene, int(i)));
+    sortForBlending(probes);
+    validate();
+    allocate();
+}
+
+void Probes::Impl::validate() const {
+    const std::string file = renderer.scene().path.string();
+    const VkPhysicalDeviceLimits& limits = ctx.properties().limits;
+    for (const ProbeInfo& p : probes) {
+        uint32_t res = p.probe.resolution;
+        if (res < 8 || !std::has_single_bit(res))
+            throw inputError(file, p.name + ".extensions.SPECULUM_reflection_probe.resolution: " + std::to_string(res) +
+                                       " is not a power of two >= 8");
+        if (res > limits.maxImageDimensionCube)
+            throw inputError(file, p.name + ".extensions.SPECULUM_reflection_probe.resolution: " + std::to_string(res) +
+                                       " exceeds the device's cube limit of " +
+                                       std::to_string(limits.maxImageDimensionCube) + " (" + ctx.deviceName() + ")");
+    }
+    size_t capacity = std::min<size_t>(kMaxProbes, limits.maxImageArrayLayers / 6);
+    if (probes.size() > capacity)
+        throw inputError(file, std::to_string(probes.size()) + " local cubemap probes; the cube array holds " +
+                                   std::to_string(capacity) + " (" + probes[capacity].name + " is one too many)");
+    // Every cube of the array takes the largest probe's face size: name that probe.
+    const ProbeInfo* largest = nullptr;
+    for (const ProbeInfo& p : probes)
+        if (!largest || p.probe.resolution > largest->probe.resolution) largest = &p;
+    uint32_t size = largest ? std::max(8u, largest->probe.resolution) : 8u;
+    VkDeviceSize bytes = VkDeviceSize(size) * size * 8 * 6 * std::max<size_t>(probes.size(), 1) * 4 / 3;
+    if (bytes > kMaxArrayBytes)
+        throw inputError(file, largest->name + ".extensions.SPECULUM_reflection_probe.resolution: " +
+                                   std::to_string(size) + " makes the probes' cube array (" +
+                                   std::to_string(probes.size()) + " cubes of " + std::to_string(size) +
+                                   "^2 faces, each cube at the largest probe's resolution) take " +
+                                   std::to_string(bytes >> 20) + " MiB, over the " +
+                                   std::to_string(kMaxArrayBytes >> 20) +
+                                   " MiB budget: lower the resolution or use fewer probes");
+}
+
+void Probes::Impl::allocate() {
+    for (const ProbeInfo& p : probes) faceSize = std::max(faceSize, p.probe.resolution);
+    mips = uint32_t(std::bit_width(faceSize)) - 2;  // down to 4x4, as the sky's cube
+    const uint32_t count = uint32_t(std::max<size_t>(probes.size(), 1));
+    const VkImageUsageFlags usage =
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+        VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    cubes = gpu::Image(ctx, {faceSize, faceSize, kCubeFormat, mips, 6 * count, true, usage}, "probes.cubes");
+    for (size_t i = 0; i < probes.size(); ++i) {
+        uint32_t res = probes[i].probe.resolution;
+        radiance.emplace_back(ctx, gpu::ImageDesc{res, res, kCubeFormat, uint32_t(std::bit_width(res)), 6, true, usage},
+                              "probes.radiance." + std::to_string(i));
+        std::vector<gpu::Unique<VkImageView>> views;
+        for (uint32_t m = 0; m < mips; ++m) {
+            VkImageViewCreateInfo v{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+            v.image = cubes.get();
+            v.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
+            v.format = kCubeFormat;
+            v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m, 1, uint32_t(6 * i), 6};
+            VkImageView view;
+            gpu::check(vkCreateImageView(ctx.device(), &v, nullptr, &view), "vkCreateImageView");
+            views.emplace_back(ctx.device(), view, vkDestroyImageView);
+        }
+        targetViews.push_back(std::move(views));
+        probes[i].gpu.params = glm::vec4(float(i), float(mips - 1), 0.0f, 0.0f);
+    }
+    pending.assign(probes.size(), false);
+    ready.assign(probes.size(), false);
+    records = gpu::Buffer(ctx, sizeof(GpuProbe) * count, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.records");
+    std::memset(records.mapped(), 0, records.size());
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        // Black until baked: a probe is blended only once its record is written (ready).
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+        VkClearColorValue black{};
+        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+        vkCmdClearColorImage(cmd, cubes.get(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        for (const gpu::Image& r : radiance) {
+            gpu::transition(cmd, r.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+            vkCmdClearColorImage(cmd, r.get(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
+        }
+    });
+}
+
+uint32_t Probes::Impl::readyCount() const {
+    return uint32_t(std::count(ready.begin(), ready.end(), true));
+}
+
+uint32_t Probes::Impl::writeRecords() {
+    auto* out = static_cast<GpuProbe*>(records.mapped());
+    uint32_t n = 0;
+    for (size_t i = 0; i < probes.size(); ++i)
+        if (ready[i]) out[n++] = probes[i].gpu;
+    return n;
+}
+
+Probes::Probes(const gpu::Context& ctx, render::Renderer& renderer, const ProbeSettings& settings)
+    : impl_(std::make_unique<Impl>(ctx, renderer, settings)) {}
+Probes::~Probes() = default;
+
+const std::vector<ProbeInfo>& Probes::probes() const { return impl_->probes; }
+const gpu::Image& Probes::cubes() const { return impl_->cubes; }
+size_t Probes::facesCaptured() const { return impl_->faces; }
+double Probes::captureMs() const { return impl_->ms; }
+
+void Probes::requestUpdate(int probe) {
+    Impl& m = *impl_;
+    for (size_t i = 0; i < m.pending.size(); ++i)
+        if (probe < 0 || size_t(probe) == i) m.pending[i] = true;
+}
+
+void Probes::Impl::bakeAll(const std::vector<size_t>& which, const Progress& progress, size_t& done, size_t total) {
+    for (size_t i : which) {
+        for (uint32_t f = 0; f < 6; ++f) {
+            captureFace(i, f);
+            if (progress) progress(++done, total);
+        }
+        prefilter(i);
+    }
+}
+
+void Probes::update(const Progress& progress) {
+    Impl& m = *impl_;
+    std::vector<size_t> full, sliced;
+    for (size_t i = 0; i < m.probes.size(); ++i) {
+        ProbeUpdate mode = m.probes[i].probe.update;
+        bool start = !m.baked && (mode == ProbeUpdate::Once || mode == ProbeUpdate::OnDemand);
+        if (start || m.pending[i] || mode == ProbeUpdate::EveryFrame) full.push_back(i);
+        else if (mode == ProbeUpdate::TimeSliced) sliced.push_back(i);
+    }
+    // Bounces: at start every bake after the first sees the one before it.
+    int rounds = m.baked ? 1 : m.settings.bounces;
+    size_t done = 0, total = full.size() * 6 * size_t(rounds);
+    for (int b = 0; b < rounds && !full.empty(); ++b) {
+        m.bakeAll(full, progress, done, total);
+        m.baked = true;
+    }
+    for (size_t i : full) m.pending[i] = false;
+    if (!sliced.empty()) {
+        size_t probe = sliced[(m.slice / 6) % sliced.size()];
+        uint32_t face = uint32_t(m.slice % 6);
+        m.captureFace(probe, face);
+        if (face == 5) m.prefilter(probe);
+        ++m.slice;
+    }
+    m.baked = m.baked || !full.empty();
+}
+
+ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled) {
+    Impl& m = *impl_;
+    ProbeSet set;
+    const gpu::ImageDesc& d = m.cubes.desc();
+    set.cubes = graph.importTexture("probes.cubes",
+                                    {.width = d.width, .height = d.height, .format = d.format, .mips = d.mips,
+                                     .layers = d.layers, .cube = true},
+                                    {m.cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, d.usage});
+    set.records = graph.importBuffer("probes.records", {m.records.size()}, {m.records.get()});
+    set.count = enabled ? m.readyCount() : 0;
+    return set;
+}
+
+}  // namespace speculum::probes

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Writes the bad-probe scenes of the capture CLI tests (tests/capture/CMakeLists.txt, probe_*):
+one triangle, a camera and nodes with SPECULUM_reflection_probe. Run from anywhere:
+    python3 tests/data/bad/make_probe_scenes.py
+and commit the .gltf files it writes next to itself."""
+import base64
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def triangle_buffer():
+    positions = [(-1.0, 0.0, -1.0), (1.0, 0.0, -1.0), (0.0, 0.0, 1.0)]
+    normals = [(0.0, 1.0, 0.0)] * 3
+    data = b"".join(struct.pack("<3f", *p) for p in positions)
+    data += b"".join(struct.pack("<3f", *n) for n in normals)
+    data += struct.pack("<3I", 0, 2, 1)  # counter-clockwise seen from +y
+    return data
+
+
+def scene(probes):
+    data = triangle_buffer()
+    nodes = [{"name": "triangle", "mesh": 0},
+             {"name": "main", "camera": 0, "translation": [0, 2, 4]}]
+    for name, ext in probes:
+        node = {"name": name, "translation": [0, 1, 0],
+                "extensions": {"SPECULUM_reflection_probe": ext}}
+        nodes.append(node)
+    return {
+        "asset": {"version": "2.0", "generator": "speculum tests (make_probe_scenes.py)"},
+        "extensionsUsed": ["SPECULUM_reflection_probe"],
+        "buffers": [{"byteLength": len(data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 72, "byteLength": 12}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [-1, 0, -1], "max": [1, 0, 1]},
+                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                      {"bufferView": 2, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+        "materials": [{"name": "plain"}],
+        "meshes": [{"name": "triangle",
+                    "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2, "material": 0}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.05}}],
+        "nodes": nodes,
+        "scenes": [{"nodes": list(range(len(nodes)))}],
+        "scene": 0,
+    }
+
+
+def probe(**fields):
+    ext = {"kind": "local_cubemap", "shape": "box", "extents": [2, 1, 2], "resolution": 8}
+    ext.update(fields)
+    return ext
+
+
+SCENES = {
+    # Not a power of two: the loader rejects it, naming the node and `resolution`.
+    "probe_resolution_not_pow2.gltf": [("probe.npot", probe(resolution=100))],
+    # A zero extent: the loader rejects it, naming the node and `extents`.
+    "probe_zero_extent.gltf": [("probe.flat", probe(extents=[2, 0, 2]))],
+    # 65 probes: one more than the cube array holds (64).
+    "probe_too_many.gltf": [("probe.%02d" % i, probe()) for i in range(65)],
+    # Three 4096^2 probes: 3 x 6 faces x 4096^2 x 8 bytes x 4/3 (mips) = 3072 MiB, over 1024 MiB.
+    "probe_over_budget.gltf": [("probe.big%d" % i, probe(resolution=4096)) for i in range(3)],
+}
+
+if __name__ == "__main__":
+    for name, probes in SCENES.items():
+        with open(os.path.join(HERE, name), "w") as f:
+            json.dump(scene(probes), f, indent=1)
+            f.write("\n")
+        print("wrote", name)

@@ -1,0 +1,50 @@
+// Every setting is described once: the settings structs take their defaults from the table. This
+// fails if a struct default and the table differ (a default written twice drifts: the struct once
+// said max_iterations 64 and hiz_start_level 2 while the table said 96 and 1).
+#include "speculum/reflections/reflections.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace speculum;
+
+TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
+    Settings table(reflections::settingsTable());
+    reflections::ReflectionSettings s;
+    EXPECT_EQ(s.enabled, table.getBool("reflections.enabled"));
+    EXPECT_EQ(s.screenSpace, table.getBool("reflections.screen_space"));
+    EXPECT_EQ(int(s.trace), table.getInt("reflections.trace"));
+    EXPECT_EQ(s.maxIterations, table.getInt("reflections.max_iterations"));
+    EXPECT_EQ(s.linearPreSteps, table.getInt("reflections.linear_pre_steps"));
+    EXPECT_EQ(s.hizStartLevel, table.getInt("reflections.hiz_start_level"));
+    EXPECT_EQ(s.hizStopLevel, table.getInt("reflections.hiz_stop_level"));
+    EXPECT_FLOAT_EQ(s.linearStride, table.getFloat("reflections.linear_stride"));
+    EXPECT_EQ(s.linearMaxSteps, table.getInt("reflections.linear_max_steps"));
+    EXPECT_EQ(s.refineSteps, table.getInt("reflections.refine_steps"));
+    EXPECT_FLOAT_EQ(s.thickness, table.getFloat("reflections.thickness"));
+    EXPECT_EQ(s.coneSamples, table.getInt("reflections.cone_samples"));
+    EXPECT_EQ(int(s.coverage), table.getInt("reflections.coverage"));
+    EXPECT_FLOAT_EQ(s.maxRoughness, table.getFloat("reflections.max_roughness"));
+    EXPECT_FLOAT_EQ(s.edgeFade, table.getFloat("reflections.edge_fade"));
+    EXPECT_FLOAT_EQ(s.cameraFadeStart, table.getFloat("reflections.camera_fade_start"));
+    EXPECT_FLOAT_EQ(s.cameraFadeEnd, table.getFloat("reflections.camera_fade_end"));
+    EXPECT_FLOAT_EQ(s.distanceFadeStart, table.getFloat("reflections.distance_fade_start"));
+    EXPECT_FLOAT_EQ(s.distanceFadeEnd, table.getFloat("reflections.distance_fade_end"));
+    EXPECT_EQ(s.multiBounce, table.getBool("reflections.multi_bounce"));
+    EXPECT_EQ(s.probes, table.getBool("reflections.probes"));
+    EXPECT_EQ(int(s.debugView), table.getInt("reflections.debug_view"));
+    EXPECT_EQ(s.debugHizMip, table.getInt("reflections.debug_hiz_mip"));
+    // The known values of today's table, so that a table edit is a conscious one.
+    EXPECT_EQ(s.maxIterations, 96);
+    EXPECT_EQ(s.hizStartLevel, 1);
+}
+
+TEST(ModuleSettings, FromReadsEveryOverride) {
+    Settings table(reflections::settingsTable());
+    table.assign("reflections.max_iterations=7");
+    table.assign("reflections.probes=false");
+    table.assign("reflections.trace=linear");
+    auto s = reflections::ReflectionSettings::from(table);
+    EXPECT_EQ(s.maxIterations, 7);
+    EXPECT_FALSE(s.probes);
+    EXPECT_EQ(s.trace, reflections::TraceMode::Linear);
+}
