@@ -1,5 +1,6 @@
 // speculum-game: fly through a scene. WASD moves, the mouse (right button held, or always when
 // the cursor is captured with Tab) looks around, Q/E go down/up, Shift is fast, Esc quits.
+#include "speculum/app/device_budget.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/app/output.hpp"
@@ -12,7 +13,11 @@
 #include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
 
+#include "speculum/app/camera_flags.hpp"
+
 #include <chrono>
+#include <fstream>
+#include <unistd.h>
 #include <cmath>
 #include <iostream>
 
@@ -71,7 +76,15 @@ void updateCamera(GLFWwindow* w, FlyCamera& cam, float dt, double& lastX, double
     if (glm::length(move) > 0.0f) cam.position += glm::normalize(move) * speed * boost * dt;
 }
 
-int run(const std::string& scenePath, const std::string& device, int maxFrames) {
+// Resident set size now, from /proc/self/statm (pages), in MB; 0 where there is no /proc.
+double residentMb() {
+    std::ifstream statm("/proc/self/statm");
+    unsigned long long size = 0, resident = 0;
+    if (!(statm >> size >> resident)) return 0.0;
+    return double(resident) * double(sysconf(_SC_PAGESIZE)) / 1048576.0;
+}
+
+int run(const std::string& scenePath, const std::string& device, int maxFrames, uint32_t width, uint32_t height) {
     if (!app::displayAvailable()) {
         std::cerr << "speculum-game: no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable); render "
                      "headless instead: build/engine/speculum-capture --scene "
@@ -79,9 +92,10 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
         return 1;
     }
     Scene scene = loadScene(scenePath);
-    app::Window window("Speculum", 1280, 720);
+    app::Window window("Speculum", width, height);
     gpu::Context ctx(gpu::ContextOptions{
         .deviceName = device, .instanceExtensions = app::Window::requiredExtensions(), .swapchain = true});
+    app::checkSceneFitsDevice(ctx, scene);
     render::Renderer renderer(ctx, scene);
     // The sample plays with the module's defaults; the editor is where settings change.
     Settings settings(app::settingsOf({}, {probes::moduleInfo(), reflections::moduleInfo()}));
@@ -129,6 +143,9 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames) 
             swapchain.acquired(), swapchain.rendered());
         swapchain.present();
         ++frames;
+        // With --frames, a memory line every 100 frames: the soak test's evidence (issue 15).
+        if (maxFrames > 0 && (frames % 100 == 0 || frames == maxFrames))
+            std::cout << "frame " << frames << ": rss " << residentMb() << " MB\n" << std::flush;
         fpsTime += dt;
         if (++fpsFrames >= 10 || fpsTime > 1.0) {
             char title[160];
@@ -153,17 +170,21 @@ int main(int argc, char** argv) {
     std::string scene = std::string(SPECULUM_SOURCE_DIR) + "/assets/scenes/gallery.gltf";
     std::string device;
     int frames = 0;
+    std::string size = "1280x720";
     CLI::App cli{"speculum-game: fly through a scene (WASD, Q/E, right mouse, Tab captures the mouse, Esc quits)"};
     cli.add_option("--scene", scene, "glTF scene (default: the gallery)");
     cli.add_option("--device", device, "Vulkan device name (substring)");
     cli.add_option("--frames", frames, "quit after N frames (0: run until Esc)");
+    cli.add_option("--size", size, "window size WxH (default 1280x720)");
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return cli.exit(e) == 0 ? 0 : static_cast<int>(ExitCode::BadArguments);
     }
     try {
-        return run(scene, device, frames);
+        if (frames < 0) throw argumentError("--frames must be 0 (until Esc) or more");
+        auto [w, h] = app::parseSize(size);
+        return run(scene, device, frames, w, h);
     } catch (const Error& e) {
         std::cerr << "speculum-game: " << e.what() << "\n";
         return static_cast<int>(e.code());

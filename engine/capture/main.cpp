@@ -4,6 +4,7 @@
 #include "speculum/app/output.hpp"
 
 #include "speculum/app/camera_flags.hpp"
+#include "speculum/app/device_budget.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/core.hpp"
@@ -31,6 +32,7 @@ struct Options {
     int frames = 1;
     int warmup = 3;
     std::vector<std::string> sets;
+    bool settingsGiven = false, framesGiven = false;  // a flag given as "" or beside --path
 };
 
 // The modules this tool composes, in chain order: probes, then reflections (which takes the
@@ -54,27 +56,49 @@ std::vector<std::string> parseAovs(const std::string& list) {
     return aovs;
 }
 
+// The files a run will write, where a folder of that name would stop it only after rendering.
+void checkOutputNames(const std::string& out, const std::vector<std::string>& aovs, size_t frames, bool everyFrame) {
+    std::vector<std::string> names = {"timings.json", "graph.dot", "graph.json"};
+    for (size_t f : {everyFrame ? size_t(0) : frames - 1, frames - 1})
+        for (const std::string& a : aovs) {
+            char stem[64];
+            std::snprintf(stem, sizeof stem, ".%04zu", f);
+            names.push_back(a + stem + ".exr");
+            if (a == "color") names.push_back(a + stem + ".png");
+        }
+    for (const std::string& n : names)
+        if (fs::is_directory(fs::path(out) / n))
+            throw argumentError("--out " + out + ": " + n + " is a folder; the capture writes a file of that name");
+}
+
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
     if (o.scene.empty()) throw argumentError("--scene FILE is required");
     if (o.frames < 1 || o.frames > 100000) throw argumentError("--frames must be in 1..100000");
     if (o.warmup < 0 || o.warmup > 1000) throw argumentError("--warmup must be in 0..1000");
+    if (o.framesGiven && !o.path.empty())
+        throw argumentError(
+            "--frames does not apply with --path: the path's \"frames\" sets how many frames are rendered");
+    if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = app::parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
     Settings settings(app::settingsOf(app::engineSettingsTable(), modules()));
-    if (!o.settingsFile.empty()) settings.load(o.settingsFile);
+    if (o.settingsGiven) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
 
     Scene scene = loadScene(o.scene);
     std::vector<render::CameraState> cameras = app::selectCameras(
         {o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, size_t(o.frames));
+    app::prepareOutputDir(o.out);  // before the device: a bad --out costs no rendering
+    checkOutputNames(o.out, aovs, cameras.size(), !o.path.empty());
 
     gpu::Context ctx(gpu::ContextOptions{.deviceName = o.device});
     uint32_t maxDim = ctx.properties().limits.maxImageDimension2D;
     if (w > maxDim || h > maxDim)
         throw argumentError("--size " + o.size + " exceeds the device limit of " + std::to_string(maxDim) + " pixels (" +
                             ctx.deviceName() + ")");
+    app::checkSceneFitsDevice(ctx, scene);
 
     render::RendererOptions ro;
     app::applyRenderSettings(settings, ro);
@@ -82,7 +106,6 @@ int run(const Options& o) {
     probes::Probes probeModule(ctx, renderer, probes::ProbeSettings::from(settings));
     reflections::Reflections module(ctx, renderer);
     app::FrameRunner runner(ctx, renderer, w, h);
-    fs::create_directories(o.out);
     // Probes update before each frame's graph is built (their captures are graphs of their own).
     auto updateProbes = [&] {
         probeModule.update([](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); });
@@ -145,7 +168,7 @@ int main(int argc, char** argv) {
     cli.add_option("--up", o.up, "up vector X,Y,Z (default 0,1,0)");
     cli.add_option("--fov", o.fov, "vertical field of view in degrees (with --eye)");
     cli.add_option("--size", o.size, "image size WxH (default 960x540)");
-    cli.add_option("--frames", o.frames, "frames to render and time (default 1)");
+    cli.add_option("--frames", o.frames, "frames to render and time (default 1; not with --path)");
     cli.add_option("--warmup", o.warmup, "untimed frames first (default 3)");
     cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
     cli.add_option("--settings", o.settingsFile, "JSON settings file");
@@ -161,6 +184,8 @@ int main(int argc, char** argv) {
         std::cerr << "speculum-capture: " << e.what() << " (see --help)\n";
         return static_cast<int>(ExitCode::BadArguments);
     }
+    o.settingsGiven = cli.count("--settings") > 0;
+    o.framesGiven = cli.count("--frames") > 0;
     try {
         return run(o);
     } catch (const Error& e) {

@@ -1,7 +1,9 @@
 #include "speculum/settings.hpp"
 
 #include "speculum/core.hpp"
+#include "speculum/limits.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -70,14 +72,11 @@ void Settings::set(const std::string& name, const std::string& text) {
         if (text == "false" || text == "0" || text == "off") return set(name, 0.0);
         throw argumentError("setting '" + name + "' must be true or false, not '" + text + "'");
     }
-    size_t used = 0;
+    // Plain decimal only: std::stod also took "0x10", " 5", "inf" and "nan" (issue 15).
     double v = 0.0;
-    try {
-        v = std::stod(text, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used == 0 || used != text.size())
+    const char* end = text.data() + text.size();
+    auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
+    if (text.empty() || ec != std::errc() || ptr != end)
         throw argumentError("setting '" + name + "' needs a number in " + rangeText(*d) + ", not '" + text + "'");
     set(name, v);
 }
@@ -92,14 +91,25 @@ void Settings::fromJson(const nlohmann::json& j, const std::string& source) {
     if (!j.is_object()) throw inputError(source, "settings must be a JSON object of \"key\": value");
     for (const auto& [key, value] : j.items()) {
         try {
+            // The JSON type must match the setting's: a choice by name, a switch by true/false, a
+            // number by a number (true used to pick choice 1 of an enum, "0x10" a number).
+            const SettingDesc* d = find(key);
+            if (!d) set(key, 0.0);  // reports the unknown key
+            const char* want = d->type == SettingType::Enum   ? "one of "
+                               : d->type == SettingType::Bool ? "true or false"
+                                                              : "a number in ";
+            bool ok = d->type == SettingType::Enum   ? value.is_string()
+                      : d->type == SettingType::Bool ? value.is_boolean()
+                                                     : value.is_number();
+            if (!ok) {
+                std::string range = d->type == SettingType::Bool ? "" : rangeText(*d);
+                throw argumentError("setting '" + key + "' needs " + want + range + ", not " +
+                                    value.dump().substr(0, 40));
+            }
             if (value.is_string())
                 set(key, value.get<std::string>());
-            else if (value.is_boolean())
-                set(key, value.get<bool>() ? 1.0 : 0.0);
-            else if (value.is_number())
-                set(key, value.get<double>());
             else
-                throw argumentError("setting '" + key + "' has a value of the wrong JSON type");
+                set(key, value.is_boolean() ? (value.get<bool>() ? 1.0 : 0.0) : value.get<double>());
         } catch (const Error& e) {
             throw inputError(source, e.what());
         }
@@ -107,11 +117,12 @@ void Settings::fromJson(const nlohmann::json& j, const std::string& source) {
 }
 
 void Settings::load(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw inputError(file.string(), "cannot open the settings file");
+    // Regular files only, depth-checked; json::parse (unlike operator>>) rejects text after the
+    // object.
+    std::string text = limits::readJsonText(file, "settings file");
     nlohmann::json j;
     try {
-        in >> j;
+        j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
         throw inputError(file.string(), std::string("not valid JSON: ") + e.what());
     }

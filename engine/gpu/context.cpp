@@ -25,6 +25,12 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFl
                                                    void*) {
     if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
     std::string message = data && data->pMessage ? data->pMessage : "(no message)";
+    // The loader reports through the same messenger during vkCreateInstance (e.g. "Found no
+    // drivers!"); those are not validation messages and must not count as or look like them.
+    if (data && data->pMessageIdName && std::strcmp(data->pMessageIdName, "Loader Message") == 0) {
+        log(LogLevel::Debug, "vulkan loader: " + message);
+        return VK_FALSE;
+    }
     {
         std::lock_guard lock(gValidationMutex);
         gValidationMessages.push_back(message);

@@ -36,12 +36,22 @@ glm::vec3 parseVec3(const std::string& s, const char* flag) {
 }
 
 std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
-    unsigned w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw argumentError("--size needs WxH (e.g. 960x540), got '" + s + "'");
+    // Digits only, by hand: sscanf's %u took "-3" as 4294967293 and wrapped 4294967296 to 0.
+    auto number = [&](size_t& i, uint64_t& v) {
+        size_t start = i;
+        for (v = 0; i < s.size() && s[i] >= '0' && s[i] <= '9' && i - start < 12; ++i)
+            v = v * 10 + uint64_t(s[i] - '0');
+        return i > start && (i >= s.size() || s[i] < '0' || s[i] > '9');
+    };
+    size_t i = 0;
+    uint64_t w = 0, h = 0;
+    bool ok = number(i, w) && i < s.size() && (s[i] == 'x' || s[i] == 'X') && number(++i, h) && i == s.size();
+    if (!ok) throw argumentError("--size needs WxH with two whole numbers (e.g. 960x540), got '" + s + "'");
     if (w == 0 || h == 0) throw argumentError("--size " + s + " is empty: width and height must be at least 1");
-    return {w, h};
+    if (w > kMaxImageSide || h > kMaxImageSide)
+        throw argumentError("--size " + s + " exceeds every device limit: more than " + std::to_string(kMaxImageSide) +
+                            " pixels on a side");
+    return {uint32_t(w), uint32_t(h)};
 }
 
 std::vector<render::CameraState> selectCameras(const CameraFlags& f, const Scene& scene, uint32_t w, uint32_t h,

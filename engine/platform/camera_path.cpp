@@ -1,6 +1,7 @@
 #include "speculum/app/camera_path.hpp"
 
 #include "speculum/core.hpp"
+#include "speculum/limits.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -25,11 +26,10 @@ glm::vec3 readVec3(const nlohmann::json& j, const std::string& file, const std::
 
 std::vector<CameraPose> loadCameraPath(const std::filesystem::path& path) {
     const std::string file = path.string();
-    std::ifstream in(path);
-    if (!in) throw inputError(file, "cannot open the camera path");
+    std::string text = limits::readJsonText(path, "camera path");
     nlohmann::json j;
     try {
-        in >> j;
+        j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
         throw inputError(file, std::string("not valid JSON: ") + e.what());
     }

@@ -17,6 +17,18 @@ namespace fs = std::filesystem;
 namespace speculum::app {
 namespace {
 
+// The last step of every write; a folder in the way (out/color.0000.exr/) is the user's doing and
+// gets a message, not an internal error.
+void renameInto(const fs::path& tmp, const fs::path& file) {
+    std::error_code ec;
+    fs::rename(tmp, file, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw Error(ExitCode::Failure, file.string() + ": cannot write: " +
+                                           (fs::is_directory(file) ? "a folder has that name" : "rename failed"));
+    }
+}
+
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -35,10 +47,30 @@ void writeImage(const fs::path& file, const AovImage& image, OIIO::TypeDesc type
         for (uint32_t c = 0; c < channels; ++c) pixels[i * channels + c] = image.rgba[i * 4 + c];
     if (!out->open(tmp.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close())
         throw Error(ExitCode::Failure, file.string() + ": cannot write: " + out->geterror());
-    fs::rename(tmp, file);
+    renameInto(tmp, file);
 }
 
 }  // namespace
+
+void prepareOutputDir(const fs::path& dir) {
+    const std::string name = dir.string();
+    if (name.empty()) throw argumentError("--out needs a folder name, got \"\"");
+    std::error_code ec;
+    auto status = fs::status(dir, ec);
+    if (fs::exists(status) && !fs::is_directory(status))
+        throw argumentError("--out " + name + " exists and is not a folder" +
+                            (fs::is_regular_file(status) ? "" : " (a device or other special file)"));
+    fs::create_directories(dir, ec);
+    if (ec) throw argumentError("--out " + name + ": cannot create the folder: " + ec.message());
+    // Root passes access(W_OK) on read-only folders, and a read-only mount fails only on write:
+    // write a probe file.
+    fs::path probe = dir / (".speculum-write-test." + std::to_string(::getpid()));
+    {
+        std::ofstream out(probe);
+        if (!out) throw argumentError("--out " + name + ": the folder is not writable");
+    }
+    fs::remove(probe, ec);
+}
 
 void writeExr(const fs::path& file, const AovImage& image) {
     writeImage(file, image, OIIO::TypeDesc::FLOAT, std::max(image.channels, 1u) == 2 ? 3 : image.channels);
@@ -61,7 +93,7 @@ void writeText(const fs::path& file, const std::string& text) {
         out << text;
         if (!out) throw Error(ExitCode::Failure, file.string() + ": cannot write");
     }
-    fs::rename(tmp, file);
+    renameInto(tmp, file);
 }
 
 void progress(const std::string& label, size_t done, size_t total) {

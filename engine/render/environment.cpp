@@ -30,6 +30,7 @@
 #include "speculum/core.hpp"
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/render/cube_filter.hpp"
+#include "speculum/scene.hpp"
 
 #include <OpenImageIO/imageio.h>
 
@@ -107,6 +108,7 @@ glm::vec3 EquirectImage::sample(glm::vec3 dir) const {
 
 EquirectImage loadEquirect(const std::filesystem::path& path) {
     const std::string file = path.string();
+    checkEnvironmentImage(path);  // regular file and header limits before any pixel is read
     auto in = OIIO::ImageInput::open(file);
     if (!in) throw inputError(file, "cannot read environment map: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
@@ -117,8 +119,11 @@ EquirectImage loadEquirect(const std::filesystem::path& path) {
     image.height = uint32_t(spec.height);
     int channels = spec.nchannels >= 3 ? 3 : 1;  // grey (+ alpha) is replicated below
     std::vector<float> pixels(size_t(spec.width) * spec.height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw inputError(file, "cannot decode environment map: " + in->geterror());
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
+        std::string why = in->geterror();  // empty for some truncated files (issue 15)
+        throw inputError(file, "cannot decode environment map: " +
+                                   (why.empty() ? std::string("its pixels are truncated or corrupt") : why));
+    }
     in->close();
 
     image.texels.resize(size_t(image.width) * image.height);

@@ -19,7 +19,9 @@ using json = nlohmann::json;
 // Hard limits against absurd sizes: a corrupt count must give a message, not a 100 GB allocation.
 inline constexpr uint64_t kMaxAccessorCount = uint64_t(1) << 28;
 inline constexpr uint64_t kMaxBufferBytes = uint64_t(1) << 32;
-inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;
+// Textures: 8192x8192 (2^26 pixels, 256 MB as RGBA8) at most. A 30-byte PNG header claiming
+// 16384x16384 made stb_image allocate 1 GB before finding the data missing (issue 15).
+inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
 // Every problem found through a Reader becomes one inputError naming the file and the JSON path
 // of the offending value ("nodes[3] \"Lamp\".mesh: ...").

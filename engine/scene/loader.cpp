@@ -16,6 +16,14 @@ Scene loadScene(const std::filesystem::path& path) {
     gltf::loadResources(scene, path, container, d, r);
     gltf::buildMeshes(scene, d, r);
     gltf::resolveScene(scene, scene.document, d, r);
+    // The environment map's header now, so that a bad one fails before any device starts.
+    if (std::filesystem::path env = environmentPath(scene); !env.empty()) {
+        try {
+            checkEnvironmentImage(env);
+        } catch (const Error& e) {
+            r.fail("scenes[].extras.environment", e.what());
+        }
+    }
     return scene;
 }
 

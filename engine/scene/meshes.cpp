@@ -2,6 +2,8 @@
 // normals/tangents where the file has none. Byte ranges were validated in validate.cpp.
 #include "gltf_document.hpp"
 
+#include "speculum/limits.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -215,7 +217,28 @@ void generateNormals(Primitive& p) {
     }
 }
 
+// The expanded size of every primitive, from the accessor counts alone, before any vertex is
+// built: one accessor reused by many primitives is copied into each (limits.hpp).
+static void checkGeometrySize(const Document& d, const Reader& r) {
+    uint64_t vertices = 0, indices = 0;
+    for (const MeshInfo& info : d.meshes)
+        for (const PrimitiveInfo& pi : info.primitives) {
+            if (pi.position < 0 || pi.mode < 4) continue;
+            uint64_t n = d.accessors[size_t(pi.position)].count;
+            uint64_t k = pi.indices >= 0 ? d.accessors[size_t(pi.indices)].count : n;
+            vertices += n;
+            indices += pi.mode == 4 ? k : 3 * k;  // strips and fans become up to 3 per index
+        }
+    uint64_t bytes = vertices * sizeof(Vertex) + indices * sizeof(uint32_t);
+    if (bytes > limits::kMaxSceneGeometryBytes)
+        r.fail("meshes", "the primitives expand to " + std::to_string(vertices) + " vertices and " +
+                             std::to_string(indices) + " indices (" + limits::bytesText(bytes) +
+                             "), more than the " + limits::bytesText(limits::kMaxSceneGeometryBytes) +
+                             " limit for a scene");
+}
+
 void buildMeshes(Scene& scene, const Document& d, const Reader& r) {
+    checkGeometrySize(d, r);
     for (const MeshInfo& info : d.meshes) {
         Mesh mesh;
         mesh.name = info.name;

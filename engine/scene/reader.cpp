@@ -1,6 +1,8 @@
 // Checked JSON access and the .gltf/.glb container: the first line of defence against bad files.
 #include "gltf_document.hpp"
 
+#include "speculum/limits.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -152,7 +154,15 @@ const json& Reader::topArray(const json& doc, const char* key) const {
 Container readContainer(const std::filesystem::path& path, const Reader& r) {
     Container c;
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) r.fail("", "no such file");
+    auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) r.fail("", "no such file");
+    if (std::filesystem::is_directory(status)) r.fail("", "is a folder, not a glTF file");
+    if (!std::filesystem::is_regular_file(status)) r.fail("", "is not a regular file (a glTF scene must be one)");
+    // The whole file is read into memory: no more than the largest buffer plus its JSON.
+    const uint64_t fileBytes = std::filesystem::file_size(path, ec);
+    if (!ec && fileBytes > kMaxBufferBytes + limits::kMaxTextFileBytes)
+        r.fail("", "the file has " + limits::bytesText(fileBytes) + ", more than the " +
+                       limits::bytesText(kMaxBufferBytes + limits::kMaxTextFileBytes) + " a scene file may have");
     std::ifstream in(path, std::ios::binary);
     if (!in) r.fail("", "cannot open the file");
     c.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -191,6 +201,8 @@ Container readContainer(const std::filesystem::path& path, const Reader& r) {
 }
 
 json parseJson(const std::string& text, const Reader& r) {
+    // Before either JSON parser sees it: tinygltf recurses per level and overflowed the stack.
+    limits::checkJsonDepth(text, r.file());
     json doc;
     try {
         doc = json::parse(text);

@@ -32,7 +32,8 @@ bool decodeRgba8(const unsigned char* bytes, int size, Image& out, std::string& 
         return false;
     }
     if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > kMaxImagePixels) {
-        why = "absurd size " + std::to_string(w) + "x" + std::to_string(h);
+        why = "header claims " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than the " +
+              std::to_string(kMaxImagePixels) + " (8192x8192) a texture may have";
         return false;
     }
     stbi_uc* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);

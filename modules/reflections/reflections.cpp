@@ -15,12 +15,14 @@ namespace {
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
 constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-constexpr VkDescriptorType kUniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+// The frame's constants are a storage buffer, not a uniform buffer: see ReflectionFrame in
+// shaders/reflections/common.glsl (a lavapipe leak, issue 15).
+constexpr VkDescriptorType kFrameBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
 // Binding 0 is the frame's uniforms in every pipeline; then the given types in order.
 std::vector<gpu::Binding> bindings(std::initializer_list<std::pair<uint32_t, VkDescriptorType>> list) {
-    std::vector<gpu::Binding> b{{0, kUniform, kCompute}};
+    std::vector<gpu::Binding> b{{0, kFrameBuffer, kCompute}};
     for (auto [binding, type] : list) b.push_back({binding, type, kCompute});
     return b;
 }
@@ -73,7 +75,7 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
                                          "reflections.hiz_view")),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
-      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "reflections.frame") {
+      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "reflections.frame") {
     std::vector<glm::vec4> table = materialTable(r.scene());
     materialCount = uint32_t(table.size());
     materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -159,7 +161,7 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
 
 gpu::DescriptorWriter Reflections::Impl::writer() const {
     gpu::DescriptorWriter w;
-    w.buffer(0, kUniform, uniforms.get());
+    w.buffer(0, kFrameBuffer, uniforms.get());
     return w;
 }
 

@@ -7,7 +7,11 @@
 
 #include "common/camera.glsl"
 
-// The frame uniforms, `rf`: declared once for C++ and GLSL.
+// The frame constants, `rf`: declared once for C++ and GLSL (reflections/frame.h), read from a
+// read-only storage buffer, not a uniform block: lavapipe (Mesa 22.3) inlines uniform-block
+// values that steer branches and loops, recompiling the shader on every pipeline bind and keeping
+// each copy until the pipeline is destroyed -- 0.55 MB a frame with this module (issue 15;
+// tests/hardening/driver_probe.cpp shows it in 60 lines). Storage-buffer loads are never inlined.
 #include "reflections/frame.h"
 
 // Per material (index in the G-buffer's flags): mode, roughness scale, roughness override

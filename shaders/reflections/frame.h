@@ -1,8 +1,9 @@
-// The reflections module's per-frame uniform block, declared once for C++ (modules/reflections,
+// The reflections module's per-frame constants, declared once for C++ (modules/reflections,
 // which fills it) and GLSL (shaders/reflections/common.glsl, which reads it as `rf`), with one
-// named field per value. std140: the matrices and `size` sit at 16-byte boundaries, `znear`
-// fills `eye`'s fourth word, and the scalars pack four to a row, which C++ lays out alike
-// (static_asserts in modules/reflections/module_impl.hpp).
+// named field per value. A read-only storage buffer in GLSL (common.glsl says why), std140:
+// the matrices and `size` sit at 16-byte boundaries, `znear` fills `eye`'s fourth word, and the
+// scalars pack four to a row, which C++ lays out alike (static_asserts in
+// modules/reflections/module_impl.hpp).
 #ifndef SPECULUM_REFLECTIONS_FRAME_H
 #define SPECULUM_REFLECTIONS_FRAME_H
 
@@ -18,7 +19,7 @@ using uint = uint32_t;
 #define SPECULUM_REFLECTION_FRAME_BEGIN struct ReflectionFrame
 #define SPECULUM_REFLECTION_FRAME_END
 #else
-#define SPECULUM_REFLECTION_FRAME_BEGIN layout(set = 0, binding = 0, std140) uniform ReflectionFrame
+#define SPECULUM_REFLECTION_FRAME_BEGIN layout(set = 0, binding = 0, std140) readonly buffer ReflectionFrame
 #define SPECULUM_REFLECTION_FRAME_END rf
 #endif
 

@@ -36,10 +36,14 @@ def fail(message, code=2):
 
 
 def load_suite(path):
+    if not Path(path).is_file():  # a folder, a device such as /dev/zero (read forever), nothing
+        fail(f"{path}: not a regular file (the suite must be a JSON file)", 3)
     try:
         suite = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as e:
-        fail(f"{path}: cannot read the suite: {e}", 3)
+    except (OSError, ValueError, RecursionError) as e:  # RecursionError: JSON nested ~1,000 deep
+        fail(f"{path}: cannot read the suite: {type(e).__name__}: {str(e)[:200]}", 3)
+    if not isinstance(suite, dict):
+        fail(f"{path}: the suite must be a JSON object", 3)
     for key, kind in (("methods", dict), ("sizes", list), ("views", list), ("reference", dict)):
         if not isinstance(suite.get(key), kind):
             fail(f"{path}: '{key}' must be a JSON {kind.__name__}", 3)
@@ -70,22 +74,30 @@ def view_name(view):
 def scene_inputs(gltf):
     """The scene file and every file it names (buffers, images, the environment)."""
     files = [gltf]
-    doc = json.loads(gltf.read_text())
-    for key in ("buffers", "images"):
-        for item in doc.get(key, []):
-            uri = item.get("uri", "")
-            if uri and not uri.startswith("data:"):
-                files.append(gltf.parent / uri)
-    for scene in doc.get("scenes", []):
-        env = scene.get("extras", {}).get("environment")
-        if isinstance(env, str):
-            files.append(gltf.parent / env)
+    try:
+        doc = json.loads(gltf.read_text()) if gltf.is_file() else {}
+    except (OSError, ValueError, RecursionError):
+        return files  # speculum-capture and speculum-reference report what is wrong with it
+    try:
+        for key in ("buffers", "images"):
+            for item in doc.get(key, []):
+                uri = item.get("uri", "")
+                if uri and not uri.startswith("data:"):
+                    files.append(gltf.parent / uri)
+        for scene in doc.get("scenes", []):
+            env = scene.get("extras", {}).get("environment")
+            if isinstance(env, str):
+                files.append(gltf.parent / env)
+    except (AttributeError, TypeError):
+        pass  # a malformed document: the tools name the problem
     return files
 
 
 def file_hash(path, cache={}):
     if path not in cache:
-        cache[path] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        # Only regular files are read (/dev/zero would never end); the tools report the others.
+        p = Path(path)
+        cache[path] = hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else "not-a-file"
     return cache[path]
 
 

@@ -8,6 +8,7 @@
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
+#include "speculum/limits.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -30,7 +31,31 @@ struct Options {
     uint32_t spp = 64, bounces = 2, threads = 0;
     uint64_t seed = 1;
     std::vector<std::string> sets;
+    bool settingsGiven = false;
 };
+
+// The reference flattens every primitive of every instance into world-space Embree meshes (no
+// instancing), so a small file that places one big mesh many times costs memory per placement:
+// one took 16.9 GB (issue 15). Per flattened vertex: the shading copy (position, normal, tangent,
+// uv: 48 bytes) and Embree's float3 buffer (16); per triangle: 12 bytes of indices and about 128
+// of a high-quality BVH with spatial splits. Refused past half of the machine's memory.
+void checkReferenceBudget(const Scene& scene) {
+    uint64_t vertices = 0, triangles = 0;
+    for (const Instance& inst : scene.instances) {
+        if (inst.mesh < 0 || size_t(inst.mesh) >= scene.meshes.size()) continue;
+        for (const Primitive& p : scene.meshes[size_t(inst.mesh)].primitives) {
+            vertices += p.vertices.size();
+            triangles += p.indices.size() / 3;
+        }
+    }
+    uint64_t need = vertices * 64 + triangles * 140;
+    uint64_t memory = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
+    if (need > memory / 2)
+        throw inputError(scene.path.string(),
+                         "the reference renderer would need about " + limits::bytesText(need) + " for " +
+                             std::to_string(triangles) + " triangles over " + std::to_string(scene.instances.size()) +
+                             " placed meshes, more than half of this machine's " + limits::bytesText(memory));
+}
 
 // speculum-capture's size rule plus a cap: the reference allocates per-pixel buffers up front.
 std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
@@ -82,11 +107,12 @@ int run(const Options& o) {
     if (o.scene.empty()) throw argumentError("--scene FILE is required");
     if (o.spp < 1 || o.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
     if (o.bounces < 1 || o.bounces > 64) throw argumentError("--bounces must be in 1..64");
+    if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
 
     Settings settings(app::engineSettingsTable());
-    if (!o.settingsFile.empty()) settings.load(o.settingsFile);
+    if (o.settingsGiven) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
     render::RendererOptions ro;
     app::applyRenderSettings(settings, ro);
@@ -95,13 +121,14 @@ int run(const Options& o) {
     Scene scene = loadScene(o.scene);
     std::vector<render::CameraState> views =
         app::selectCameras({o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, 1);
+    app::prepareOutputDir(o.out);  // before the BVH build and the sky prefilter
+    checkReferenceBudget(scene);
     reference::Options ropt{o.spp, o.bounces, o.seed, o.threads, ro.exposure, {}};
     size_t frameIndex = 0;
     auto frameStart = std::chrono::steady_clock::now();
     ropt.progress = [&](uint32_t done, uint32_t total) { progressBar(frameIndex, views.size(), done, total, frameStart); };
     reference::Renderer renderer(scene, ropt);
     double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
-    fs::create_directories(o.out);
 
     nlohmann::json frames = nlohmann::json::array();
     for (frameIndex = 0; frameIndex < views.size(); ++frameIndex) {
@@ -154,6 +181,7 @@ int main(int argc, char** argv) {
         std::cerr << "speculum-reference: " << e.what() << " (see --help)\n";
         return static_cast<int>(ExitCode::BadArguments);
     }
+    o.settingsGiven = cli.count("--settings") > 0;
     try {
         return run(o);
     } catch (const Error& e) {

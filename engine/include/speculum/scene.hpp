@@ -178,8 +178,26 @@ struct Scene {
     const Camera* findCamera(const std::string& name) const;
 };
 
-// Loads .gltf or .glb. Throws Error(ExitCode::BadInput, "<file>: <problem>").
+// Loads .gltf or .glb. Throws Error(ExitCode::BadInput, "<file>: <problem>"). Checks the limits
+// of speculum/limits.hpp (JSON depth, expanded geometry, the environment map's header) first.
 Scene loadScene(const std::filesystem::path& path);
+
+// The environment map the scene names in scenes[i].extras.environment, resolved against the
+// scene's folder; empty when it names none.
+std::filesystem::path environmentPath(const Scene& scene);
+// An equirect image's header before its pixels are read: a regular file (a device such as
+// /dev/zero hung OpenImageIO's format probing), a format OpenImageIO reads, at most
+// limits::kMaxEnvironmentSide a side and limits::kMaxEnvironmentPixels. Throws Error(BadInput)
+// naming `file` with the numbers.
+void checkEnvironmentImage(const std::filesystem::path& file);
+
+// What the scene asks of the device: vertex and index buffers as the renderer lays them out
+// (48-byte vertices, 32-bit indices) and textures as RGBA8 with full mip chains.
+struct SceneBytes {
+    uint64_t vertices = 0, indices = 0, textures = 0;
+    uint64_t total() const { return vertices + indices + textures; }
+};
+SceneBytes sceneBytes(const Scene& scene);
 // Writes .gltf (with a .bin beside it) or .glb; keeps unknown extensions and extras; writes the
 // SPECULUM_* extensions from the typed structs. Writes to a temporary file, then renames.
 void saveScene(const Scene& scene, const std::filesystem::path& path);

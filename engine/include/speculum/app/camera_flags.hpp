@@ -16,7 +16,9 @@ namespace speculum::app {
 std::vector<std::string> splitList(const std::string& s);
 // "X,Y,Z"; throws Error(BadArguments) naming the flag.
 glm::vec3 parseVec3(const std::string& s, const char* flag);
-// "WxH" with both at least 1; throws Error(BadArguments).
+// "WxH", decimal digits only, both in 1..kMaxImageSide; throws Error(BadArguments) with the text.
+// The device's own maxImageDimension2D is checked once it is known.
+inline constexpr uint64_t kMaxImageSide = 65536;
 std::pair<uint32_t, uint32_t> parseSize(const std::string& s);
 
 struct CameraFlags {

@@ -12,6 +12,11 @@
 
 namespace speculum::app {
 
+// Makes --out DIR ready before any device starts: creates it (and its parents) and proves it
+// writable with a probe file. Throws Error(BadArguments) naming the path for "" , an existing
+// file, a device (/dev/null), a path under a file, or a folder that cannot be written.
+void prepareOutputDir(const std::filesystem::path& dir);
+
 // NAME.FFFF.exr (linear float, the AOV's channels); `color` also as NAME.FFFF.png (8-bit sRGB).
 void writeAov(const std::filesystem::path& dir, const std::string& name, int frame, const AovImage& image);
 void writeExr(const std::filesystem::path& file, const AovImage& image);
