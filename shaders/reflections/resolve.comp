@@ -97,12 +97,8 @@ void main() {
         vec2 px = vec2(pixel) + 0.5;
         vec3 p = worldAt(px, depth);
         vec3 v = normalize(p - rf.eye);
-        vec3 r = reflect(v, normalize(normalRough.xyz));
-        // The fallback chain beyond screen space: local probes, then the sky.
         vec3 n = normalize(normalRough.xyz);
-        vec4 probe = sampleProbes(rf.probeCount, p, n, r, m.roughness);
-        vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-        vec3 env = probe.rgb + (1.0 - probe.a) * sky;
+        vec3 r = reflect(v, n);
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
         vec4 hit = texelFetch(hitTex, pixel, 0);
@@ -113,6 +109,15 @@ void main() {
                           distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
+        }
+        // The fallback chain beyond screen space, local probes then the sky, only where screen
+        // space leaves something (the probe lookup is most of this pass's cost past the cone).
+        vec4 probe = vec4(0.0);
+        vec3 env = vec3(0.0);
+        if (coverage < 1.0 || !finite3(screen)) {
+            probe = sampleProbes(rf.probeCount, p, n, r, m.roughness);
+            vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
+            env = probe.rgb + (1.0 - probe.a) * sky;
         }
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
