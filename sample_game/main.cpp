@@ -127,8 +127,8 @@ int run(const std::string& scenePath, const std::string& device, int maxFrames, 
         last = now;
         updateCamera(window.handle(), cam, dt, lastX, lastY, speed);
         // Probe captures are graphs of their own: before the frame's graph, outside the swapchain.
-        probeModule.update(frames == 0 ? [](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); }
-                                       : probes::Probes::Progress{});
+        if (reflections::probesInUse(settings))
+            probeModule.update(frames == 0 ? probes::Probes::terminalProgress() : probes::Probes::Progress{});
         if (!swapchain.acquire()) continue;
         VkExtent2D e = swapchain.extent();
         runner.resize(e.width, e.height);

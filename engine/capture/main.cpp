@@ -43,14 +43,15 @@ std::vector<app::ModuleInfo> modules() {
 
 std::vector<std::string> parseAovs(const std::string& list) {
     auto aovs = app::splitList(list);
+    const std::vector<app::ModuleInfo> mods = modules();
     std::string known;
     for (const std::string& a : app::availableAovs()) known += (known.empty() ? "" : ", ") + a;
-    for (const app::ModuleInfo& m : modules())
+    for (const app::ModuleInfo& m : mods)
         for (const app::AovInfo& a : m.aovs) known += ", " + a.name;
     if (aovs.empty()) throw argumentError("--aov needs at least one of: " + known);
     for (const std::string& a : aovs) {
         const auto& engine = app::availableAovs();
-        if (std::find(engine.begin(), engine.end(), a) == engine.end() && !app::aovProvider(modules(), a))
+        if (std::find(engine.begin(), engine.end(), a) == engine.end() && !app::aovProvider(mods, a))
             throw argumentError("unknown AOV '" + a + "' (known: " + known + ")");
     }
     return aovs;
@@ -108,7 +109,7 @@ int run(const Options& o) {
     app::FrameRunner runner(ctx, renderer, w, h);
     // Probes update before each frame's graph is built (their captures are graphs of their own).
     auto updateProbes = [&] {
-        probeModule.update([](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); });
+        if (reflections::probesInUse(settings)) probeModule.update(probes::Probes::terminalProgress());
     };
 
     // Warm-up frames compile every pipeline (lavapipe compiles at first submit) before timing.

@@ -2,6 +2,7 @@
 // against the device, the cube array, update modes, and the frame graph imports.
 #include "module_impl.hpp"
 
+#include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
 
 #include <algorithm>
@@ -24,6 +25,18 @@ constexpr VkDeviceSize kMaxArrayBytes = VkDeviceSize(1) << 30;
 std::string probeName(const Scene& scene, int node) {
     const std::string& n = scene.nodes[size_t(node)].name;
     return "nodes[" + std::to_string(node) + "]" + (n.empty() ? "" : " \"" + n + "\"");
+}
+
+// capture_bounce.comp: G-buffer, lit image and DFG (0-5), records (6), cubes (7), sky (8), out (9).
+std::vector<gpu::Binding> bounceBindings() {
+    std::vector<gpu::Binding> b;
+    for (uint32_t i = 0; i < 10; ++i)
+        b.push_back({i,
+                     i == 6   ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                     : i == 9 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                              : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                     VK_SHADER_STAGE_COMPUTE_BIT});
+    return b;
 }
 
 }  // namespace
@@ -65,18 +78,8 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
     : ctx(c), renderer(r), settings(s),
       sampler(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
-      bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp",
-                                        {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                         {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT}},
-                                        96, "probes.capture_bounce")),
+      bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp", bounceBindings(), 96,
+                                        "probes.capture_bounce")),
       filter(c), allocator(c.physicalDevice(), c.device()),
       executor(c.instance(), c.physicalDevice(), c.device(), c.timestampPeriodNs()) {
     const Scene& scene = r.scene();
@@ -201,6 +204,10 @@ void Probes::Impl::bakeAll(const std::vector<size_t>& which, const Progress& pro
         }
         prefilter(i);
     }
+}
+
+Probes::Progress Probes::terminalProgress() {
+    return [](size_t done, size_t total) { app::progress("probe bake (faces)", done, total); };
 }
 
 void Probes::update(const Progress& progress) {

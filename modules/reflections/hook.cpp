@@ -4,6 +4,10 @@
 
 namespace speculum::reflections {
 
+bool probesInUse(const Settings& settings) {
+    return settings.getBool("reflections.enabled") && settings.getBool("reflections.probes");
+}
+
 app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
                      const render::FrameInputs& frame) {
     ReflectionSettings s = ReflectionSettings::from(settings);

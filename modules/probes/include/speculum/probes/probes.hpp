@@ -94,6 +94,8 @@ public:
     // prefiltered after their sixth face. `progress` (when set) hears about each face baked.
     using Progress = std::function<void(size_t done, size_t total)>;
     void update(const Progress& progress = {});
+    // A Progress that prints "probe bake (faces): done/total" on the terminal.
+    static Progress terminalProgress();
     // Asks for a bake of one probe (index in blend order) or of all (-1) at the next update().
     void requestUpdate(int probe = -1);
     // Imports the cube array and the records into `graph` (count 0 when `enabled` is false).

@@ -12,6 +12,10 @@ namespace speculum::reflections {
 // the renderer keeps its own specular ambient and the module forgets its history. `probes`
 // (may be null) is composed before the module: its ProbeSet is the module's probe input
 // (reflections.probes=false hands it over with no probe in it).
+// Whether this frame's chain reads the probes (reflections and reflections.probes on): hosts
+// update the probes only then, so a run without them bakes nothing.
+bool probesInUse(const Settings& settings);
+
 app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
                      const render::FrameInputs& frame);
 
