@@ -3,6 +3,7 @@
 #pragma once
 
 #include "speculum/reflections/reflections.hpp"
+#include "speculum/reflections/upsample.hpp"
 
 #include <array>
 #include <optional>
@@ -19,31 +20,45 @@ namespace speculum::reflections {
 using FrameUniforms = shader::ReflectionFrame;
 static_assert(offsetof(FrameUniforms, eye) == 256 && offsetof(FrameUniforms, znear) == 268);
 static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, maxIterations) == 288);
-static_assert(offsetof(FrameUniforms, traceMode) == 368 && sizeof(FrameUniforms) == 400, "std140 layout");
+static_assert(offsetof(FrameUniforms, traceMode) == 368 && offsetof(FrameUniforms, temporalAlpha) == 400);
+static_assert(sizeof(FrameUniforms) == 416, "std140 layout");
 
 // The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
 // them and knows whether the previous one was written).
+// With reflections.temporal, the accumulated reflection and the normals and roughness it was
+// accumulated on (the temporal pass writes both, no copy).
 struct ReflectionHistory {
     gpu::HistoryImages color;
     gpu::HistoryImages depth;
+    gpu::HistoryImages reflection;
+    gpu::HistoryImages normal;
     uint32_t width = 0, height = 0;
     bool valid() const { return color.history().valid() && depth.history().valid(); }
+    bool temporalValid() const {
+        return depth.history().valid() && reflection.history().valid() && normal.history().valid();
+    }
     void invalidate() {
         color.history().invalidate();
         depth.history().invalidate();
+        reflection.history().invalidate();
+        normal.history().invalidate();
     }
 };
 
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, resolve, hizView;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, guide, temporal;
+    BilateralUpsampler upsampler;
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
     // trace about 5% and the debug views' fetches cost the plain composite about 40%.
-    std::array<std::optional<gpu::Pipeline>, 2> traces;
+    // Trace and resolve per resolution too (half reads the guide's pixel).
+    std::array<std::optional<gpu::Pipeline>, 4> traces;
+    std::array<std::optional<gpu::Pipeline>, 2> resolves;
     std::array<std::optional<gpu::Pipeline>, kDebugViewCount> composites;
-    const gpu::Pipeline& trace(TraceMode mode);
+    const gpu::Pipeline& trace(TraceMode mode, Resolution resolution);
+    const gpu::Pipeline& resolve(Resolution resolution);
     const gpu::Pipeline& composite(DebugView view);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -51,13 +66,17 @@ struct Reflections::Impl {
     gpu::Buffer materials;
     uint32_t materialCount = 0;
     ReflectionHistory history;
+    // The last frame's settings: a change resets the temporal history (a new setting would
+    // otherwise fade in over temporal_alpha's frames and the bench would score the blend).
+    std::optional<ReflectionSettings> lastSettings;
+    uint32_t frameIndex = 0;
     // Bound when the host gives no probes (ReflectionInputs::probes left empty): one black cube
     // and one zeroed record, blended zero times.
     gpu::Image noProbeCubes;
     gpu::Buffer noProbeRecords;
     probes::ProbeSet importNoProbes(FrameGraph& g) const;
     // This frame's imports of the histories (addColorPyramid reads previous, addHistory writes current).
-    HistoryHandles historyColor, historyDepth;
+    HistoryHandles historyColor, historyDepth, historyReflection, historyNormal;
 
     Impl(const gpu::Context& c, render::Renderer& r);
     void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,
@@ -69,8 +88,14 @@ struct Reflections::Impl {
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels);
-    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TraceMode mode);
-    void addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out);
+    // Half resolution: which full pixel each half pixel traces (reflections/guide.comp).
+    TextureHandle addGuide(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
+    // `guide` invalid: full resolution.
+    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle guide,
+                           TraceMode mode);
+    void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, ReflectionOutputs& out);
+    // Accumulates out.reflection over frames into the history; returns the accumulated image.
+    TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
     struct Composited {
         TextureHandle shown;    // the lit image, or the debug view
         TextureHandle history;  // the lit image

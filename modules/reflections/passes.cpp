@@ -13,6 +13,7 @@ constexpr VkFormat kHiZFormat = VK_FORMAT_R32G32_SFLOAT;
 constexpr VkFormat kVisibilityFormat = VK_FORMAT_R8_UNORM;
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kHitFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kGuideFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
 std::string levelName(const char* pass, uint32_t level) {
     return std::string("reflections.") + pass + "." + std::to_string(level);
@@ -138,35 +139,66 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     return pyramid;
 }
 
-TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                          TraceMode mode) {
+TextureHandle Reflections::Impl::addGuide(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit;
+        TextureHandle hiz, normal, emissive, guide;
     };
+    const auto& d = g.addPass<Data>(
+        "reflections.guide", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            TextureDesc half{.relativeScale = 0.5f, .format = kGuideFormat, .relativeTo = in.gbuffer.depth};
+            data.guide = b.write(b.create("reflections.guide", half), TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.hiz), nearest)
+                .sampled(2, pc.view(data.normal), nearest)
+                .sampled(3, pc.view(data.emissive), nearest)
+                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
+                .storage(5, pc.view(data.guide));
+            dispatch(pc, guide, w, pc.extent(data.guide));
+        });
+    return d.guide;
+}
+
+TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
+                                          TextureHandle guideImage, TraceMode mode) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, guide, hit;
+    };
+    Resolution res = guideImage.valid() ? Resolution::Half : Resolution::Full;
     const auto& d = g.addPass<Data>(
         "reflections.trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            data.hit = b.write(b.create("reflections.hit", TextureDesc{.format = kHitFormat}),
-                               TextureUsage::StorageWrite);
+            // Full resolution binds the normals in the guide's place (unread).
+            data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
+            TextureDesc desc{.format = kHitFormat};
+            if (guideImage.valid()) desc.relativeTo = guideImage;
+            data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
-        [this, mode](const Data& data, PassContext& pc) {
+        [this, mode, res](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)
                 .sampled(2, pc.view(data.normal), nearest)
                 .sampled(3, pc.view(data.emissive), nearest)
                 .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .storage(5, pc.view(data.hit));
-            dispatch(pc, trace(mode), w, pc.extent(data.hit));
+                .storage(5, pc.view(data.hit))
+                .sampled(6, pc.view(data.guide), nearest);
+            dispatch(pc, trace(mode, res), w, pc.extent(data.hit));
         });
     return d.hit;
 }
 
-void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, ReflectionOutputs& out) {
+void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
+                                   ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, reflection, method, probeCubes;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, probeCubes;
         BufferHandle probeRecords;
     };
     probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
@@ -180,12 +212,16 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.color = b.read(out.colorPyramid, TextureUsage::Sampled);
-            data.reflection = b.write(b.create("reflections.reflection", TextureDesc{.format = kColorFormat}),
+            data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
+            // At the trace's size (half: the guide's).
+            TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
+            bool half = guideImage.valid();
+            data.reflection = b.write(b.create(half ? "reflections.reflection_half" : "reflections.reflection", desc),
                                       TextureUsage::StorageWrite);
-            data.method = b.write(b.create("reflections.method", TextureDesc{.format = kColorFormat}),
+            data.method = b.write(b.create(half ? "reflections.method_half" : "reflections.method", desc),
                                   TextureUsage::StorageWrite);
         },
-        [this](const Data& data, PassContext& pc) {
+        [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)
@@ -194,12 +230,13 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Re
                 .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
                 .sampled(5, pc.view(data.hit), nearest)
                 .sampled(6, pc.view(data.color), trilinear)
+                .sampled(7, pc.view(data.guide), nearest)
                 .sampled(8, env.specular().view(), env.sampler())
                 .storage(9, pc.view(data.reflection))
                 .storage(10, pc.view(data.method))
                 .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
                 .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
-            dispatch(pc, resolve, w, pc.extent(data.reflection));
+            dispatch(pc, resolve(res), w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
     out.method = d.method;
@@ -247,6 +284,48 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             dispatch(pc, composite(view), w, pc.extent(data.dst));
         });
     return {d.dst, view != DebugView::None ? d.plain : d.dst};
+}
+
+TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, motion, reflection, method, history, historyNormal, historyDepth, dst,
+            dstNormal;
+    };
+    historyReflection = g.importHistory("reflections.history.reflection", history.reflection.history());
+    historyNormal = g.importHistory("reflections.history.normal", history.normal.history());
+    const auto& d = g.addPass<Data>(
+        "reflections.temporal", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+            data.reflection = b.read(out.reflection, TextureUsage::Sampled);
+            data.method = b.read(out.method, TextureUsage::Sampled);
+            data.history = b.read(historyReflection.previous, TextureUsage::Sampled);
+            data.historyNormal = b.read(historyNormal.previous, TextureUsage::Sampled);
+            data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+            data.dst = b.write(historyReflection.current, TextureUsage::StorageWrite);
+            data.dstNormal = b.write(historyNormal.current, TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            w.sampled(1, pc.view(data.hiz), nearest)
+                .sampled(2, pc.view(data.normal), nearest)
+                .sampled(3, pc.view(data.emissive), nearest)
+                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
+                .sampled(5, pc.view(data.motion), nearest)
+                .sampled(6, pc.view(data.reflection), nearest)
+                .sampled(7, pc.view(data.method), nearest)
+                .sampled(8, pc.view(data.history), trilinear)
+                .sampled(9, pc.view(data.historyNormal), nearest)
+                .sampled(10, pc.view(data.historyDepth), nearest)
+                .storage(11, pc.view(data.dst))
+                .storage(12, pc.view(data.dstNormal));
+            dispatch(pc, temporal, w, pc.extent(data.dst));
+        });
+    g.markOutput(d.dstNormal);
+    return d.dst;
 }
 
 void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth) {

@@ -58,21 +58,26 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp",
                                            bindings({{1, kSampled}, {2, kStorage}, {3, kSampled}}), 0,
                                            "reflections.color_pyramid")),
-      resolve(gpu::createComputePipeline(c, "reflections/resolve.comp",
-                                         bindings({{1, kSampled},
-                                                   {2, kSampled},
-                                                   {3, kSampled},
-                                                   {4, kBuffer},
-                                                   {5, kSampled},
-                                                   {6, kSampled},
-                                                   {8, kSampled},
-                                                   {9, kStorage},
-                                                   {10, kStorage},
-                                                   {11, kBuffer},
-                                                   {12, kSampled}}),
-                                         0, "reflections.resolve")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings({{1, kSampled}, {2, kStorage}}), 0,
                                          "reflections.hiz_view")),
+      guide(gpu::createComputePipeline(c, "reflections/guide.comp",
+                                       bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}), 0,
+                                       "reflections.guide")),
+      temporal(gpu::createComputePipeline(c, "reflections/temporal.comp",
+                                          bindings({{1, kSampled},
+                                                    {2, kSampled},
+                                                    {3, kSampled},
+                                                    {4, kBuffer},
+                                                    {5, kSampled},
+                                                    {6, kSampled},
+                                                    {7, kSampled},
+                                                    {8, kSampled},
+                                                    {9, kSampled},
+                                                    {10, kSampled},
+                                                    {11, kStorage},
+                                                    {12, kStorage}}),
+                                          0, "reflections.temporal")),
+      upsampler(c),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
       uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "reflections.frame") {
@@ -140,6 +145,11 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.distanceFadeEnd = s.distanceFadeEnd;
     u.debugHizMip = float(s.debugHizMip);
     u.invExposure = 1.0f / std::max(renderer.options().exposure, 1e-6f);
+    u.traceScale = s.resolution == Resolution::Half ? 2.0f : 1.0f;
+    u.temporalAlpha = s.temporalAlpha;
+    u.temporalClip = s.temporalClip;
+    u.frameIndex = frameIndex;
+    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s ? 1u : 0u;
     u.traceMode = uint32_t(s.trace);
     u.coverageMode = uint32_t(s.coverage);
     u.historyValid = history.valid() ? 1u : 0u;
@@ -155,6 +165,11 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
     if (history.width == w && history.height == h) return;
     history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
     history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
+    constexpr VkImageUsageFlags kStorageUsage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    history.reflection = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
+                                            "reflections.history.reflection");
+    history.normal = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
+                                        "reflections.history.normal");
     history.width = w;
     history.height = h;
 }
@@ -182,12 +197,33 @@ void Reflections::resetHistory() {
     impl_->history.invalidate();
 }
 
-const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode) {
-    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode));
+const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution) {
+    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 2 + size_t(resolution));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/trace.comp",
-                                       bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}),
-                                       0, "reflections.trace", {uint32_t(mode)});
+        p = gpu::createComputePipeline(
+            ctx, "reflections/trace.comp",
+            bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}, {6, kSampled}}), 0,
+            "reflections.trace", {uint32_t(mode), uint32_t(resolution)});
+    return *p;
+}
+
+const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution) {
+    std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution));
+    if (!p)
+        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp",
+                                       bindings({{1, kSampled},
+                                                 {2, kSampled},
+                                                 {3, kSampled},
+                                                 {4, kBuffer},
+                                                 {5, kSampled},
+                                                 {6, kSampled},
+                                                 {7, kSampled},
+                                                 {8, kSampled},
+                                                 {9, kStorage},
+                                                 {10, kStorage},
+                                                 {11, kBuffer},
+                                                 {12, kSampled}}),
+                                       0, "reflections.resolve", {uint32_t(resolution)});
     return *p;
 }
 
@@ -223,12 +259,25 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
-    out.hit = m.addTrace(graph, in, out.hiz, s.trace);
-    m.addResolve(graph, in, out);
+    TextureHandle guide;
+    if (s.resolution == Resolution::Half) guide = m.addGuide(graph, in, out.hiz);
+    out.hit = m.addTrace(graph, in, out.hiz, guide, s.trace);
+    m.addResolve(graph, in, guide, out);
+    if (guide.valid()) {
+        const render::CameraState& cam = in.frame.camera;
+        auto full = m.upsampler.addPass(
+            graph, {in.gbuffer.depth, in.gbuffer.normal, guide, {out.reflection, out.method}, cam.invViewProj, cam.position},
+            "reflections.upsampled");
+        out.reflection = full[0];
+        out.method = full[1];
+    }
+    if (s.temporal) out.reflection = m.addTemporal(graph, in, out);
     Impl::Composited composited = m.addComposite(graph, in, out, s.debugView);
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);
+    m.lastSettings = s;
+    ++m.frameIndex;
     return out;
 }
 

@@ -56,6 +56,20 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
          "chain; off: what screen space leaves goes to the sky."},
+        {"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
+         "Trace and resolve at full size, or at half size in each axis followed by a joint bilateral "
+         "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."},
+        {"reflections.glossy", T::Enum, "", 0, 1, 0, {"cone", "stochastic"},
+         "Glossy reflections by cone tracing the mirror ray's hit in the colour pyramid, or by one "
+         "GGX visible-normal sample per pixel with neighbour ray reuse (pair it with temporal)."},
+        {"reflections.temporal", T::Bool, "", 0, 1, 0, {},
+         "Accumulate the reflection over frames: history reprojected by the surface (rough) and by "
+         "the reflected hit (sharp), rejected on disocclusion, clipped to the neighbourhood."},
+        {"reflections.temporal_alpha", T::Float, "", 0.02, 1, 0.1, {},
+         "Temporal: weight of the current frame (1 = no accumulation; 0.1 averages about 10 frames)."},
+        {"reflections.temporal_clip", T::Float, "sigma", 0.25, 8, 1.25, {},
+         "Temporal: the history is clipped to the current 3x3 mean +- this many standard "
+         "deviations (lower: less ghosting, more flicker)."},
         {"reflections.debug_view", T::Enum, "", 0, 6, 0,
          {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
@@ -69,7 +83,8 @@ app::ModuleInfo moduleInfo() {
     return {"reflections",
             settingsTable(),
             {{"reflection", "pre-Fresnel reflection radiance (rgb), 0 where nothing reflects"},
-             {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1)"},
+             {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1); a: reflected "
+                        "distance (m, 0 unknown, 65504 the sky)"},
              {"iterations", "screen-space trace iterations per pixel"},
              {"hiz", "closest and farthest depth of the pixel's cell at reflections.debug_hiz_mip"},
              {"hit", "trace output: hit pixel x, y, hit depth or a negative miss code, iterations"}},
@@ -102,6 +117,11 @@ ReflectionSettings ReflectionSettings::from(const Settings& s) {
     r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
     r.multiBounce = s.getBool("reflections.multi_bounce");
     r.probes = s.getBool("reflections.probes");
+    r.resolution = Resolution(s.getInt("reflections.resolution"));
+    r.glossy = GlossyMode(s.getInt("reflections.glossy"));
+    r.temporal = s.getBool("reflections.temporal");
+    r.temporalAlpha = s.getFloat("reflections.temporal_alpha");
+    r.temporalClip = s.getFloat("reflections.temporal_clip");
     r.debugView = DebugView(s.getInt("reflections.debug_view"));
     r.debugHizMip = s.getInt("reflections.debug_hiz_mip");
     return r;

@@ -33,7 +33,8 @@ vec3 heat(float x) {
 
 vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
     vec3 dim = vec3(dot(lit, vec3(0.2126, 0.7152, 0.0722)) * 0.15);
-    vec4 hit = texelFetch(hitTex, pixel, 0);
+    // The trace's image is at trace resolution (half: a pixel per 2x2).
+    vec4 hit = texelFetch(hitTex, ivec2(vec2(pixel) / rf.traceScale), 0);
     if (view == 1u) return reflective ? heat(hit.w / max(rf.maxIterations, 1.0)) : dim;
     if (view == 2u) return reflective ? (hit.z > 0.0 ? vec3(0.1, 0.9, 0.1) : vec3(0.9, 0.1, 0.1)) : dim;
     if (view == 3u) return reflective ? vec3(texelFetch(reflectionTex, pixel, 0).a) : dim;

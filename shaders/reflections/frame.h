@@ -52,7 +52,7 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
     float distanceFadeEnd;
     float debugHizMip;
     float invExposure;
-    float unused0;
+    float traceScale;  // full-resolution pixels per trace pixel per axis: 1 full, 2 half
     // Modes. The trace mode and the debug view are also the trace's and the composite's
     // specialization constants; the shaders read those.
     uint traceMode;     // 0 hiz, 1 linear
@@ -63,6 +63,11 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
     uint multiBounce;
     uint materialCount;
     uint probeCount;  // local probes in the fallback chain
+    // Temporal accumulation and stochastic glossy rays.
+    float temporalAlpha;  // weight of this frame in the accumulated reflection
+    float temporalClip;   // history clipped to mean +- this many standard deviations
+    uint frameIndex;      // frames since the module was made (noise decorrelation)
+    uint temporalValid;   // the accumulated history and its normals are this frame's previous
 } SPECULUM_REFLECTION_FRAME_END;
 
 #ifdef __cplusplus

@@ -22,6 +22,15 @@ layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear; alpha
 layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
+layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: xy the full pixel
+// reflections.resolution (1: half): as in trace.comp, the guide's full pixel, written at the
+// invocation's half-resolution position.
+layout(constant_id = 0) const uint kHalf = 0u;
+
+// The reflected distance the temporal pass reprojects by (method.a): the screen-space hit's
+// when screen space covers most, the sky's (65504, the largest half float: a direction) when
+// the sky does, 0 (unknown: reproject by the surface) when the probes do.
+const float kSkyDistance = 65504.0;
 
 // tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
 // acos and tan cost a polynomial each per lane on a CPU driver.
@@ -86,8 +95,9 @@ float edgeFade(vec2 hitPx) {
 }
 
 void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
+    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    ivec2 pixel = kHalf != 0u ? ivec2(texelFetch(guideTex, out_, 0).xy) : out_;
     vec4 reflection = vec4(0.0);
     vec4 method = vec4(0.0);
     float depth = texelFetch(hiz, pixel, 0).g;
@@ -101,12 +111,14 @@ void main() {
         vec3 r = reflect(v, n);
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
-        vec4 hit = texelFetch(hitTex, pixel, 0);
+        vec4 hit = texelFetch(hitTex, out_, 0);
+        float hitDistance = 0.0;
         if (hit.z > 0.0) {
+            hitDistance = distance(worldAt(hit.xy, hit.z), p);
             float accumulated;
             screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
-                          distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
+                          distanceFade(hitDistance) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
         }
@@ -122,8 +134,9 @@ void main() {
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
         reflection = vec4(max(radiance, vec3(0.0)), coverage);
-        method = vec4(coverage, (1.0 - coverage) * probe.a, (1.0 - coverage) * (1.0 - probe.a), 1.0);
+        method = vec4(coverage, (1.0 - coverage) * probe.a, (1.0 - coverage) * (1.0 - probe.a), 0.0);
+        method.a = method.r >= max(method.g, method.b) ? hitDistance : method.b > method.g ? kSkyDistance : 0.0;
     }
-    imageStore(reflectionOut, pixel, reflection);
-    imageStore(methodOut, pixel, method);
+    imageStore(reflectionOut, out_, reflection);
+    imageStore(methodOut, out_, method);
 }

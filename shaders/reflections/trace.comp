@@ -24,6 +24,10 @@ layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D hitOut;
 // reflections.trace (TraceMode: 0 hiz, 1 linear) as a specialization constant: lavapipe would
 // otherwise run the other tracer's loops once per pixel too.
 layout(constant_id = 0) const uint kTraceMode = 0u;
+// reflections.resolution (1: half): each invocation traces the full-resolution pixel that the
+// guide picked for it (reflections/guide.comp) and writes at its own half-resolution position.
+layout(constant_id = 1) const uint kHalf = 0u;
+layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: xy the full pixel
 
 struct ScreenRay {
     ivec2 pixel; // the origin's pixel
@@ -318,8 +322,9 @@ vec3 traceLinear(ScreenRay ray) {
 }
 
 void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
+    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    ivec2 pixel = kHalf != 0u ? ivec2(texelFetch(guideTex, out_, 0).xy) : out_;
     vec4 result = vec4(-1.0, -1.0, -1.0, 0.0);
     float depth = texelFetch(hiz, pixel, 0).g;
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
@@ -338,5 +343,5 @@ void main() {
             result = traced.y == 0.0 ? hitAt(ray, traced.x, int(traced.z)) : vec4(-1.0, -1.0, miss, traced.z);
         }
     }
-    imageStore(hitOut, pixel, result);
+    imageStore(hitOut, out_, result);
 }

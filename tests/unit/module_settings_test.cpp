@@ -35,6 +35,11 @@ TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
     EXPECT_FLOAT_EQ(s.distanceFadeEnd, table.getFloat("reflections.distance_fade_end"));
     EXPECT_EQ(s.multiBounce, table.getBool("reflections.multi_bounce"));
     EXPECT_EQ(s.probes, table.getBool("reflections.probes"));
+    EXPECT_EQ(int(s.resolution), table.getInt("reflections.resolution"));
+    EXPECT_EQ(int(s.glossy), table.getInt("reflections.glossy"));
+    EXPECT_EQ(s.temporal, table.getBool("reflections.temporal"));
+    EXPECT_FLOAT_EQ(s.temporalAlpha, table.getFloat("reflections.temporal_alpha"));
+    EXPECT_FLOAT_EQ(s.temporalClip, table.getFloat("reflections.temporal_clip"));
     EXPECT_EQ(int(s.debugView), table.getInt("reflections.debug_view"));
     EXPECT_EQ(s.debugHizMip, table.getInt("reflections.debug_hiz_mip"));
     // The known values of today's table, so that a table edit is a conscious one.
@@ -47,7 +52,15 @@ TEST(ModuleSettings, FromReadsEveryOverride) {
     table.assign("reflections.max_iterations=7");
     table.assign("reflections.probes=false");
     table.assign("reflections.trace=linear");
+    table.assign("reflections.resolution=half");
+    table.assign("reflections.glossy=stochastic");
+    table.assign("reflections.temporal=true");
+    table.assign("reflections.temporal_alpha=0.25");
     auto s = reflections::ReflectionSettings::from(table);
+    EXPECT_EQ(s.resolution, reflections::Resolution::Half);
+    EXPECT_EQ(s.glossy, reflections::GlossyMode::Stochastic);
+    EXPECT_TRUE(s.temporal);
+    EXPECT_FLOAT_EQ(s.temporalAlpha, 0.25f);
     EXPECT_EQ(s.maxIterations, 7);
     EXPECT_FALSE(s.probes);
     EXPECT_EQ(s.trace, reflections::TraceMode::Linear);

@@ -28,6 +28,10 @@ enum class TraceMode : uint32_t { HiZ = 0, Linear = 1 };
 // How much of a pixel screen space covers: `hit` (a hit covers fully, fades aside) or
 // `visibility` (the cone's accumulated visibility, as in the book).
 enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
+// reflections.resolution: where trace and resolve run (the upsampler brings half to full).
+enum class Resolution : uint32_t { Full = 0, Half = 1 };
+// reflections.glossy: cone-traced mirror hit, or GGX samples reused across neighbours.
+enum class GlossyMode : uint32_t { Cone = 0, Stochastic = 1 };
 enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection };
 inline constexpr size_t kDebugViewCount = 7;
 
@@ -37,6 +41,7 @@ inline constexpr size_t kDebugViewCount = 7;
 struct ReflectionSettings {
     ReflectionSettings();
     static ReflectionSettings from(const Settings& settings);
+    bool operator==(const ReflectionSettings&) const = default;
 
     bool enabled;
     bool screenSpace;  // off: no ray is traced, the chain starts at the probes
@@ -59,6 +64,11 @@ struct ReflectionSettings {
     float distanceFadeEnd;
     bool multiBounce;
     bool probes;  // local probes in the fallback chain (off: screen space, then the sky)
+    Resolution resolution;
+    GlossyMode glossy;
+    bool temporal;
+    float temporalAlpha;
+    float temporalClip;
     DebugView debugView;
     int debugHizMip;
 
@@ -79,7 +89,7 @@ struct ReflectionInputs {
 struct ReflectionOutputs {
     TextureHandle lit;          // lit + reflection * DFG on reflective pixels (or a debug view)
     TextureHandle reflection;   // RGBA16F: rgb pre-Fresnel reflection radiance, a screen-space share
-    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky (they sum to 1)
+    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky (sum 1), a reflected distance
     TextureHandle hit;          // RGBA32F: xy hit pixel position, z hit depth (< 0 miss), w iterations
     TextureHandle hiz;          // RG32F pyramid: x farthest, y closest depth per cell (reversed-Z)
     TextureHandle visibility;   // R8 pre-integrated visibility pyramid

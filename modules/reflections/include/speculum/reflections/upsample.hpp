@@ -1,0 +1,39 @@
+// Joint bilateral upsampling (Kopf et al. 2007) of two low-resolution images to full
+// resolution, guided by full-resolution depth and normals and by a low-resolution guide that
+// says which full pixel each low sample stands for (shaders/reflections/upsample.comp explains
+// the weights). The reflections module upsamples its half-resolution reflection and method
+// images with it; it is a pass of its own so that it is tested alone (tests/gpu/upsample_test.cpp)
+// and reusable by other half-resolution passes.
+#pragma once
+
+#include "speculum/framegraph.hpp"
+#include "speculum/gpu/context.hpp"
+#include "speculum/gpu/pipeline.hpp"
+#include "speculum/render/renderer.hpp"
+
+#include <array>
+
+namespace speculum::reflections {
+
+struct UpsampleInputs {
+    TextureHandle depth;   // full: reversed-Z depth (D32 or R32), read with texelFetch
+    TextureHandle normal;  // full: xyz normal, w roughness
+    TextureHandle guide;   // low (RGBA32F): xy the full pixel it traced, z its depth, w > 0 it reflects
+    std::array<TextureHandle, 2> low;  // RGBA16F, the guide's size
+    glm::mat4 invViewProj;             // of the frame the depth belongs to
+    glm::vec3 eye;
+};
+
+class BilateralUpsampler {
+public:
+    explicit BilateralUpsampler(const gpu::Context& ctx);
+    // reflections.upsample: two RGBA16F images the size of `depth`, named name.0 and name.1.
+    std::array<TextureHandle, 2> addPass(FrameGraph& graph, const UpsampleInputs& in, const std::string& name) const;
+
+private:
+    const gpu::Context& ctx_;
+    gpu::Pipeline pipeline_;
+    gpu::Unique<VkSampler> nearest_;
+};
+
+}  // namespace speculum::reflections
