@@ -53,12 +53,12 @@ struct Reflections::Impl {
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
     // trace about 5% and the debug views' fetches cost the plain composite about 40%.
-    // Trace and resolve per resolution too (half reads the guide's pixel).
-    std::array<std::optional<gpu::Pipeline>, 4> traces;
-    std::array<std::optional<gpu::Pipeline>, 2> resolves;
+    // Trace and resolve per resolution (half reads the guide's pixel) and glossy mode too.
+    std::array<std::optional<gpu::Pipeline>, 8> traces;
+    std::array<std::optional<gpu::Pipeline>, 4> resolves;
     std::array<std::optional<gpu::Pipeline>, kDebugViewCount> composites;
-    const gpu::Pipeline& trace(TraceMode mode, Resolution resolution);
-    const gpu::Pipeline& resolve(Resolution resolution);
+    const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy);
+    const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy);
     const gpu::Pipeline& composite(DebugView view);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -92,8 +92,9 @@ struct Reflections::Impl {
     TextureHandle addGuide(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
     // `guide` invalid: full resolution.
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle guide,
-                           TraceMode mode);
-    void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, ReflectionOutputs& out);
+                           const ReflectionSettings& s);
+    void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
+                    ReflectionOutputs& out);
     // Accumulates out.reflection over frames into the history; returns the accumulated image.
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
     struct Composited {

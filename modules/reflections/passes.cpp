@@ -165,7 +165,7 @@ TextureHandle Reflections::Impl::addGuide(FrameGraph& g, const ReflectionInputs&
 }
 
 TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                          TextureHandle guideImage, TraceMode mode) {
+                                          TextureHandle guideImage, const ReflectionSettings& s) {
     struct Data {
         TextureHandle hiz, normal, emissive, guide, hit;
     };
@@ -182,7 +182,7 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
             if (guideImage.valid()) desc.relativeTo = guideImage;
             data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
-        [this, mode, res](const Data& data, PassContext& pc) {
+        [this, mode = s.trace, res, glossy = s.glossy](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)
                 .sampled(2, pc.view(data.normal), nearest)
@@ -190,13 +190,13 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
                 .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
                 .storage(5, pc.view(data.hit))
                 .sampled(6, pc.view(data.guide), nearest);
-            dispatch(pc, trace(mode, res), w, pc.extent(data.hit));
+            dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
         });
     return d.hit;
 }
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
-                                   ReflectionOutputs& out) {
+                                   GlossyMode glossy, ReflectionOutputs& out) {
     struct Data {
         TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, probeCubes;
         BufferHandle probeRecords;
@@ -221,7 +221,8 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
             data.method = b.write(b.create(half ? "reflections.method_half" : "reflections.method", desc),
                                   TextureUsage::StorageWrite);
         },
-        [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full](const Data& data, PassContext& pc) {
+        [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy](const Data& data,
+                                                                                      PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)
@@ -236,7 +237,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                 .storage(10, pc.view(data.method))
                 .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
                 .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
-            dispatch(pc, resolve(res), w, pc.extent(data.reflection));
+            dispatch(pc, resolve(res, glossy), w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
     out.method = d.method;

@@ -165,7 +165,9 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
     if (history.width == w && history.height == h) return;
     history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
     history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
-    constexpr VkImageUsageFlags kStorageUsage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    // Storage: the temporal pass writes them; transfer source: the reflection AOV reads them back.
+    constexpr VkImageUsageFlags kStorageUsage =
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     history.reflection = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
                                             "reflections.history.reflection");
     history.normal = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
@@ -197,18 +199,18 @@ void Reflections::resetHistory() {
     impl_->history.invalidate();
 }
 
-const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution) {
-    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 2 + size_t(resolution));
+const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy) {
+    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy));
     if (!p)
         p = gpu::createComputePipeline(
             ctx, "reflections/trace.comp",
             bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}, {6, kSampled}}), 0,
-            "reflections.trace", {uint32_t(mode), uint32_t(resolution)});
+            "reflections.trace", {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution) {
-    std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution));
+const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy) {
+    std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution) * 2 + size_t(glossy));
     if (!p)
         p = gpu::createComputePipeline(ctx, "reflections/resolve.comp",
                                        bindings({{1, kSampled},
@@ -223,7 +225,7 @@ const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution) {
                                                  {10, kStorage},
                                                  {11, kBuffer},
                                                  {12, kSampled}}),
-                                       0, "reflections.resolve", {uint32_t(resolution)});
+                                       0, "reflections.resolve", {uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
 
@@ -261,8 +263,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     TextureHandle guide;
     if (s.resolution == Resolution::Half) guide = m.addGuide(graph, in, out.hiz);
-    out.hit = m.addTrace(graph, in, out.hiz, guide, s.trace);
-    m.addResolve(graph, in, guide, out);
+    out.hit = m.addTrace(graph, in, out.hiz, guide, s);
+    m.addResolve(graph, in, guide, s.glossy, out);
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
         auto full = m.upsampler.addPass(

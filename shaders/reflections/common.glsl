@@ -68,6 +68,12 @@ float distanceFadeEnd() {
     return rf.distanceFadeEnd > rf.distanceFadeStart ? rf.distanceFadeEnd : rf.distanceFadeStart;
 }
 
+// The full-resolution pixel a half-resolution pixel traces, from its guide (reflections/guide.comp).
+ivec2 guidePixel(ivec2 halfPixel, vec4 guide) {
+    int i = int(abs(guide.w)) - 1;
+    return min(halfPixel * 2 + ivec2(i & 1, i >> 1), ivec2(rf.size.xy) - 1);
+}
+
 bool finite3(vec3 v) {
     return !any(isnan(v)) && !any(isinf(v));
 }

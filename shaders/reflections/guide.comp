@@ -7,8 +7,11 @@
 // on their side, so that the joint bilateral upsampling finds a match on either side of the edge
 // (always the closest would leave the background's pixels next to an edge only foreground
 // samples: a halo).
-// Out (RGBA32F): xy the full-resolution pixel (integer), z its reversed-Z depth, w 1 when it
-// reflects, -1 when not (its reflection is 0 and the upsampler gives it no weight).
+// Out (RGBA32F): xyz the world position of the chosen pixel (so that the upsampler reconstructs
+// one position per pixel, not five: a matrix product per sample cost it a third of its time),
+// w = +-(1 + i) with i the pixel's index in its 2x2 (x + 2 y), positive when it reflects,
+// negative when not (its reflection is 0 and the upsampler gives it no weight). guidePixel()
+// of common.glsl turns it back into the pixel.
 #include "reflections/common.glsl"
 #include "reflections/material.glsl"
 
@@ -25,7 +28,7 @@ void main() {
     ivec2 halfSize = (fullSize + 1) / 2;
     if (any(greaterThanEqual(half_, halfSize))) return;
     bool closest = ((half_.x + half_.y) & 1) == 0;
-    ivec2 best = min(half_ * 2, fullSize - 1);
+    int bestIndex = 0;
     float bestDepth = -1.0;
     bool bestReflective = false;
     // Straight loop body over the four (lavapipe runs every branch for all lanes anyway).
@@ -37,10 +40,12 @@ void main() {
         bool better = bestDepth < 0.0 || (reflective && !bestReflective) ||
                       (reflective == bestReflective && (closest ? depth > bestDepth : depth < bestDepth));
         if (better) {
-            best = p;
+            bestIndex = i;
             bestDepth = depth;
             bestReflective = reflective;
         }
     }
-    imageStore(guideOut, half_, vec4(vec2(best), bestDepth, bestReflective ? 1.0 : -1.0));
+    ivec2 best = min(half_ * 2 + ivec2(bestIndex & 1, bestIndex >> 1), fullSize - 1);
+    vec3 world = bestDepth > 0.0 ? worldAt(vec2(best) + 0.5, bestDepth) : vec3(0.0);
+    imageStore(guideOut, half_, vec4(world, float(1 + bestIndex) * (bestReflective ? 1.0 : -1.0)));
 }

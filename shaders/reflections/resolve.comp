@@ -6,8 +6,10 @@
 // largest at the hit end, are sampled from the pre-convolved colour pyramid at the mip of their
 // size. Each sample weighs by the pre-integrated visibility there and by how far its sphere
 // reaches behind the Hi-Z cell's closest surface, until the weights add up to one.
+#include "common/brdf.glsl"
 #include "reflections/common.glsl"
 #include "reflections/material.glsl"
+#include "reflections/stochastic.glsl"
 #define PROBES_BUFFER_BINDING 11
 #define PROBES_CUBES_BINDING 12
 #include "common/probes.glsl"
@@ -22,10 +24,13 @@ layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear; alpha
 layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
-layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: xy the full pixel
+layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
 // reflections.resolution (1: half): as in trace.comp, the guide's full pixel, written at the
 // invocation's half-resolution position.
 layout(constant_id = 0) const uint kHalf = 0u;
+// reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
+// samples instead of a cone.
+layout(constant_id = 1) const uint kStochastic = 0u;
 
 // The reflected distance the temporal pass reprojects by (method.a): the screen-space hit's
 // when screen space covers most, the sky's (65504, the largest half float: a direction) when
@@ -94,10 +99,57 @@ float edgeFade(vec2 hitPx) {
     return rf.edgeFade > 0.0 ? clamp(edge / rf.edgeFade, 0.0, 1.0) : 1.0;
 }
 
+// Stochastic glossy: the screen-space radiance of this pixel's lobe from its own ray and its four
+// neighbours' (Stachowiak 2015's ray reuse). Each hit is weighed by this pixel's BRDF times
+// cosine toward it over the pdf with which the neighbour drew its ray (recomputed from the
+// neighbour's noise, reflections/stochastic.glsl), a ratio estimator whose weights also count the
+// rays that missed: `coverage` is the hits' share of the weight, as a cone's visibility is.
+// Neighbours on another surface (normal off by 25 degrees, roughness by 0.1) are not reused.
+vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out float coverage,
+                       out float hitDistance) {
+    const ivec2 kReuse[5] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    ivec2 traceSize = (ivec2(rf.size.xy) + int(kHalf)) >> kHalf;
+    float alpha = roughnessToAlpha(roughness);
+    float NoV = max(dot(n, -v), 1e-4);
+    vec3 sum = vec3(0.0);
+    float wHit = 0.0, wAll = 0.0, distSum = 0.0;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 s = clamp(out_ + kReuse[k], ivec2(0), traceSize - 1);
+        ivec2 q = kHalf != 0u ? guidePixel(s, texelFetch(guideTex, s, 0)) : s;
+        float qDepth = texelFetch(hiz, q, 0).g;
+        vec4 qNormalRough = texelFetch(normalTex, q, 0);
+        PixelMaterial qm = pixelMaterial(texelFetch(emissiveTex, q, 0).a, qNormalRough.w);
+        vec3 qn = normalize(qNormalRough.xyz);
+        if (!(qDepth > 0.0 && qm.reflective) || dot(qn, n) < 0.9 || abs(qm.roughness - roughness) > 0.1) continue;
+        vec3 qv = normalize(worldAt(vec2(q) + 0.5, qDepth) - rf.eye);
+        vec3 ql = stochasticDirection(q, qv, qn, qm.roughness);
+        float qpdf = visibleNormalPdf(qn, -qv, ql, roughnessToAlpha(qm.roughness));
+        vec4 hit = texelFetch(hitTex, s, 0);
+        bool isHit = hit.z > 0.0;
+        vec3 hp = isHit ? worldAt(hit.xy, hit.z) : p;
+        vec3 l = isHit ? normalize(hp - p) : ql;
+        float NoL = dot(n, l);
+        if (NoL <= 0.0 || !finite3(l)) continue;
+        vec3 h = normalize(l - v);
+        float w = D_GGX(max(dot(n, h), 0.0), alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * NoL / max(qpdf, 1e-6);
+        wAll += w;
+        if (isHit) {
+            float d = distance(hp, p);
+            float wf = w * edgeFade(hit.xy) * distanceFade(d) * cameraFade(dot(l, v));
+            sum += wf * textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            wHit += wf;
+            distSum += wf * d;
+        }
+    }
+    coverage = wAll > 0.0 ? wHit / wAll : 0.0;
+    hitDistance = wHit > 0.0 ? distSum / wHit : 0.0;
+    return wHit > 0.0 ? sum / wHit : vec3(0.0);
+}
+
 void main() {
     ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
-    ivec2 pixel = kHalf != 0u ? ivec2(texelFetch(guideTex, out_, 0).xy) : out_;
+    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 reflection = vec4(0.0);
     vec4 method = vec4(0.0);
     float depth = texelFetch(hiz, pixel, 0).g;
@@ -113,7 +165,12 @@ void main() {
         float coverage = 0.0;
         vec4 hit = texelFetch(hitTex, out_, 0);
         float hitDistance = 0.0;
-        if (hit.z > 0.0) {
+        if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
+            if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
+                screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);
+                coverage *= clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
+            }
+        } else if (hit.z > 0.0) {
             hitDistance = distance(worldAt(hit.xy, hit.z), p);
             float accumulated;
             screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);

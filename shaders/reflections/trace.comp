@@ -12,8 +12,10 @@
 // surfaces need no special case: both are interval tests. Two fixes against resolution-
 // dependent stripes: the origin is the pixel centre with its own depth sample, and cells are
 // crossed per axis in integer pixel coordinates (no epsilon nudges that vanish at some sizes).
+#include "common/brdf.glsl"
 #include "reflections/common.glsl"
 #include "reflections/material.glsl"
+#include "reflections/stochastic.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -27,7 +29,10 @@ layout(constant_id = 0) const uint kTraceMode = 0u;
 // reflections.resolution (1: half): each invocation traces the full-resolution pixel that the
 // guide picked for it (reflections/guide.comp) and writes at its own half-resolution position.
 layout(constant_id = 1) const uint kHalf = 0u;
-layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: xy the full pixel
+layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: guidePixel()
+// reflections.glossy (1: stochastic): glossy pixels trace a GGX visible-normal sample
+// (reflections/stochastic.glsl) instead of the mirror ray.
+layout(constant_id = 2) const uint kStochastic = 0u;
 
 struct ScreenRay {
     ivec2 pixel; // the origin's pixel
@@ -324,7 +329,7 @@ vec3 traceLinear(ScreenRay ray) {
 void main() {
     ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
-    ivec2 pixel = kHalf != 0u ? ivec2(texelFetch(guideTex, out_, 0).xy) : out_;
+    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 result = vec4(-1.0, -1.0, -1.0, 0.0);
     float depth = texelFetch(hiz, pixel, 0).g;
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
@@ -332,7 +337,8 @@ void main() {
     vec2 px = vec2(pixel) + 0.5;
     vec3 p = worldAt(px, depth);
     vec3 v = normalize(p - rf.eye);
-    vec3 r = reflect(v, normalize(normalRough.xyz));
+    vec3 r = kStochastic != 0u ? stochasticDirection(pixel, v, normalize(normalRough.xyz), m.roughness)
+                               : reflect(v, normalize(normalRough.xyz));
     // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).
     bool visible = cameraFade(dot(r, v)) > 0.0;
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible) {

@@ -21,7 +21,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0) uniform sampler2D depthTex;   // full: reversed-Z depth (nearest)
 layout(set = 0, binding = 1) uniform sampler2D normalTex;  // full: xyz normal, w roughness
-layout(set = 0, binding = 2) uniform sampler2D guideTex;   // low: xy full pixel, z depth, w +-1 reflective
+layout(set = 0, binding = 2) uniform sampler2D guideTex;   // low: xyz world position, w +-(1 + index in the 2x2)
 layout(set = 0, binding = 3) uniform sampler2D lowA;       // low: first image
 layout(set = 0, binding = 4) uniform sampler2D lowB;       // low: second image (same weights)
 layout(set = 0, binding = 5, rgba16f) uniform writeonly image2D fullA;
@@ -57,12 +57,13 @@ void main() {
         ivec2 o = ivec2(i & 1, i >> 1);
         ivec2 s = clamp(base + o, ivec2(0), lowMax);
         vec4 guide = texelFetch(guideTex, s, 0);
-        vec4 sNormalRough = texelFetch(normalTex, ivec2(guide.xy), 0);
-        vec3 q = worldAtPixel(guide.xy + 0.5, guide.z);
-        float plane = abs(dot(n, q - p)) * invDist;
+        int index = int(abs(guide.w)) - 1;
+        ivec2 q = min(s * 2 + ivec2(index & 1, index >> 1), ivec2(up.size.xy) - 1);
+        vec4 sNormalRough = texelFetch(normalTex, q, 0);
+        float plane = abs(dot(n, guide.xyz - p)) * invDist;
         float others = pow(max(dot(n, normalize(sNormalRough.xyz)), 0.0), 32.0) *
                        clamp(1.0 - (abs(sNormalRough.w - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
-                       (guide.w > 0.0 && guide.z > 0.0 ? 1.0 : 0.0);
+                       (guide.w > 0.0 ? 1.0 : 0.0);
         float agree = exp(-plane * 100.0) * others;
         vec2 b = mix(1.0 - f, f, vec2(o));
         float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;

@@ -33,17 +33,19 @@ std::vector<glm::vec4> makeGuide(const std::vector<float>& depth) {
     for (uint32_t y = 0; y < LH; ++y)
         for (uint32_t x = 0; x < LW; ++x) {
             bool closest = ((x + y) & 1) == 0;
-            glm::uvec2 best{2 * x, 2 * y};
+            uint32_t best = 0;
             float bestDepth = -1.0f;
             for (uint32_t i = 0; i < 4; ++i) {
                 glm::uvec2 p{2 * x + (i & 1), 2 * y + (i >> 1)};
                 float d = depth[p.y * W + p.x];
                 if (bestDepth < 0.0f || (closest ? d > bestDepth : d < bestDepth)) {
-                    best = p;
+                    best = i;
                     bestDepth = d;
                 }
             }
-            guide[y * LW + x] = {float(best.x), float(best.y), bestDepth, 1.0f};
+            // World = (ndc, depth) under the identity matrix of upsample() below.
+            glm::vec2 px{float(2 * x + (best & 1)) + 0.5f, float(2 * y + (best >> 1)) + 0.5f};
+            guide[y * LW + x] = {px.x / W * 2.0f - 1.0f, px.y / H * 2.0f - 1.0f, bestDepth, float(1 + best)};
         }
     return guide;
 }

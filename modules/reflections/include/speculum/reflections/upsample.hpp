@@ -18,7 +18,9 @@ namespace speculum::reflections {
 struct UpsampleInputs {
     TextureHandle depth;   // full: reversed-Z depth (D32 or R32), read with texelFetch
     TextureHandle normal;  // full: xyz normal, w roughness
-    TextureHandle guide;   // low (RGBA32F): xy the full pixel it traced, z its depth, w > 0 it reflects
+    // low (RGBA32F): xyz the world position of the full pixel it traced, w +-(1 + its index in
+    // its 2x2, x + 2 y), positive when it reflects (shaders/reflections/guide.comp)
+    TextureHandle guide;
     std::array<TextureHandle, 2> low;  // RGBA16F, the guide's size
     glm::mat4 invViewProj;             // of the frame the depth belongs to
     glm::vec3 eye;
