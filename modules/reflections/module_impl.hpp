@@ -56,10 +56,10 @@ struct Reflections::Impl {
     // Trace and resolve per resolution (half reads the guide's pixel) and glossy mode too.
     std::array<std::optional<gpu::Pipeline>, 8> traces;
     std::array<std::optional<gpu::Pipeline>, 4> resolves;
-    std::array<std::optional<gpu::Pipeline>, kDebugViewCount> composites;
+    std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 2> composites;  // per view, temporal
     const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy);
     const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy);
-    const gpu::Pipeline& composite(DebugView view);
+    const gpu::Pipeline& composite(DebugView view, bool temporal);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
     gpu::Buffer uniforms;
@@ -70,6 +70,8 @@ struct Reflections::Impl {
     // otherwise fade in over temporal_alpha's frames and the bench would score the blend).
     std::optional<ReflectionSettings> lastSettings;
     uint32_t frameIndex = 0;
+    uint32_t framesSinceReset = 0;  // frames with a valid colour history in a row
+    static constexpr uint32_t kBounceFillFrames = 3;
     // Bound when the host gives no probes (ReflectionInputs::probes left empty): one black cube
     // and one zeroed record, blended zero times.
     gpu::Image noProbeCubes;
@@ -99,10 +101,11 @@ struct Reflections::Impl {
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
     struct Composited {
         TextureHandle shown;    // the lit image, or the debug view
-        TextureHandle history;  // the lit image
+        TextureHandle history;  // the lit image with this frame's own reflection (the next colour pyramid's)
     };
+    // `raw`: with temporal accumulation, this frame's reflection (out.reflection is the accumulated one).
     Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
-                            DebugView view);
+                            DebugView view, TextureHandle raw);
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 

@@ -244,10 +244,12 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
 }
 
 Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                                              const ReflectionOutputs& out, DebugView view) {
+                                                              const ReflectionOutputs& out, DebugView view,
+                                                              TextureHandle raw) {
     struct Data {
-        TextureHandle lit, albedo, normal, emissive, reflection, hiz, hit, method, dst, plain;
+        TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, method, dst, plain;
     };
+    const bool separate = view != DebugView::None || raw.valid();
     const auto& d = g.addPass<Data>(
         "reflections.composite", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
@@ -256,18 +258,21 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.reflection = b.read(out.reflection, TextureUsage::Sampled);
+            // Without temporal accumulation the reflection is bound in raw's place (unread).
+            data.raw = b.read(raw.valid() ? raw : out.reflection, TextureUsage::Sampled);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.method = b.read(out.method, TextureUsage::Sampled);
             data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
                                TextureUsage::StorageWrite);
             // A debug view replaces the image; the history still gets the real one, or the
-            // next frames would reflect the debug colours.
-            if (view != DebugView::None)
+            // next frames would reflect the debug colours. With temporal accumulation the
+            // history gets this frame's own reflection (composite.comp says why).
+            if (separate)
                 data.plain = b.write(b.create("reflections.lit_plain", TextureDesc{.format = render::kLinearFormat}),
                                      TextureUsage::StorageWrite);
         },
-        [this, view](const Data& data, PassContext& pc) {
+        [this, view, separate, temporal = raw.valid()](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.lit), nearest)
@@ -281,10 +286,11 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                 .sampled(9, pc.view(data.hit), nearest)
                 .sampled(10, pc.view(data.method), nearest)
                 .storage(11, pc.view(data.dst))
-                .storage(12, pc.view(view != DebugView::None ? data.plain : data.dst));  // unused without a view
-            dispatch(pc, composite(view), w, pc.extent(data.dst));
+                .storage(12, pc.view(separate ? data.plain : data.dst))  // unused when not separate
+                .sampled(13, pc.view(data.raw), nearest);
+            dispatch(pc, composite(view, temporal), w, pc.extent(data.dst));
         });
-    return {d.dst, view != DebugView::None ? d.plain : d.dst};
+    return {d.dst, separate ? d.plain : d.dst};
 }
 
 TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out) {
@@ -318,7 +324,7 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
                 .sampled(5, pc.view(data.motion), nearest)
                 .sampled(6, pc.view(data.reflection), nearest)
                 .sampled(7, pc.view(data.method), nearest)
-                .sampled(8, pc.view(data.history), trilinear)
+                .sampled(8, pc.view(data.history), nearest)
                 .sampled(9, pc.view(data.historyNormal), nearest)
                 .sampled(10, pc.view(data.historyDepth), nearest)
                 .storage(11, pc.view(data.dst))

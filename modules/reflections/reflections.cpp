@@ -149,7 +149,14 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.temporalAlpha = s.temporalAlpha;
     u.temporalClip = s.temporalClip;
     u.frameIndex = frameIndex;
-    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s ? 1u : 0u;
+    // Accumulation starts once the colour pyramid's reflections of reflections have filled:
+    // after a reset the bounce loop gains a bounce a frame (a mirror seen in a mirror is black,
+    // then bright), and accumulating those first frames lags every pixel that reflects a
+    // reflection by the accumulation's time constant (16 frames were not enough to reach the
+    // un-accumulated image, tests/stability converge). Three frames hold three bounces.
+    framesSinceReset = history.valid() ? framesSinceReset + 1 : 0;
+    bool bouncesFilled = !s.multiBounce || framesSinceReset >= kBounceFillFrames;
+    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled ? 1u : 0u;
     u.traceMode = uint32_t(s.trace);
     u.coverageMode = uint32_t(s.coverage);
     u.historyValid = history.valid() ? 1u : 0u;
@@ -229,8 +236,8 @@ const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMod
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::composite(DebugView view) {
-    std::optional<gpu::Pipeline>& p = composites.at(size_t(view));
+const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal) {
+    std::optional<gpu::Pipeline>& p = composites.at(size_t(view) * 2 + (temporal ? 1 : 0));
     if (!p)
         p = gpu::createComputePipeline(ctx, "reflections/composite.comp",
                                        bindings({{1, kSampled},
@@ -244,8 +251,9 @@ const gpu::Pipeline& Reflections::Impl::composite(DebugView view) {
                                                  {9, kSampled},
                                                  {10, kSampled},
                                                  {11, kStorage},
-                                                 {12, kStorage}}),
-                                       0, "reflections.composite", {uint32_t(view)});
+                                                 {12, kStorage},
+                                                 {13, kSampled}}),
+                                       0, "reflections.composite", {uint32_t(view), temporal ? 1u : 0u});
     return *p;
 }
 
@@ -273,8 +281,9 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
         out.reflection = full[0];
         out.method = full[1];
     }
+    TextureHandle raw = out.reflection;
     if (s.temporal) out.reflection = m.addTemporal(graph, in, out);
-    Impl::Composited composited = m.addComposite(graph, in, out, s.debugView);
+    Impl::Composited composited = m.addComposite(graph, in, out, s.debugView, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);

@@ -41,7 +41,7 @@ float probeInfluence(Probe pr, vec3 p, vec3 n) {
 // Parallax correction (Lagarde & Zanuttini 2012): the ray p + t r meets the proxy (box or
 // sphere in node space) at t; the cube is looked up toward that point from the capture point.
 // An affine map keeps the ray's parameter, so t found in node space holds in world space.
-vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
+float probeProxyT(Probe pr, vec3 p, vec3 r) {
     vec3 lp = (pr.worldToLocal * vec4(p, 1.0)).xyz;
     vec3 lr = (pr.worldToLocal * vec4(r, 0.0)).xyz;
     lr = mix(lr, sign(lr) * 1e-8, lessThan(abs(lr), vec3(1e-8)));
@@ -50,28 +50,42 @@ vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
     float tBox = min(tf.x, min(tf.y, tf.z));
     float a = dot(lr, lr), b = dot(lp, lr), c = dot(lp, lp) - pr.extents.x * pr.extents.x;
     float tSphere = (-b + sqrt(max(b * b - a * c, 0.0))) / a;
-    float t = max(pr.center.w < 0.5 ? tBox : tSphere, 0.0);
-    return p + r * t - pr.center.xyz;
+    return max(pr.center.w < 0.5 ? tBox : tSphere, 0.0);
+}
+
+vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
+    return p + r * probeProxyT(pr, p, r) - pr.center.xyz;
 }
 
 // rgb: the probes' blended radiance (already weighted), a: the weight of what they captured
 // (at most 1). A cube's alpha is its coverage by geometry (0 where the probe saw the sky, which
 // is infinitely far and goes to the caller's sky along r instead), its rgb premultiplied by it;
 // the caller gives 1 - a to the sky.
-vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness) {
+// `proxyDistance`: the influence-weighted distance along r to the probes' proxies (0 where no
+// probe reaches p), which the temporal pass reprojects the reflection by.
+vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float proxyDistance) {
     vec3 sum = vec3(0.0);
     float covered = 0.0;
     float total = 0.0;
+    float distanceSum = 0.0;
     for (uint i = 0u; i < count; ++i) {
         Probe pr = probes[i];
         float w = max(min(probeInfluence(pr, p, n), 1.0 - total), 0.0);
-        vec4 c = textureLod(probeCubes, vec4(probeDirection(pr, p, r), pr.params.x), roughness * pr.params.y);
+        float t = probeProxyT(pr, p, r);
+        vec4 c = textureLod(probeCubes, vec4(p + r * t - pr.center.xyz, pr.params.x), roughness * pr.params.y);
         sum += c.rgb * w;
         covered += c.a * w;
         total += w;
+        distanceSum += t * w;
         if (total >= 0.999) break;
     }
+    proxyDistance = total > 0.0 ? distanceSum / total : 0.0;
     return vec4(sum, covered);
+}
+
+vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness) {
+    float unused;
+    return sampleProbes(count, p, n, r, roughness, unused);
 }
 
 #endif

@@ -19,12 +19,19 @@ layout(set = 0, binding = 8) uniform sampler2D hiz;         // texelFetch
 layout(set = 0, binding = 9) uniform sampler2D hitTex;      // texelFetch
 layout(set = 0, binding = 10) uniform sampler2D methodTex;
 layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D dst;
-// With a debug view: the composite without it, which feeds the history.
+// With a debug view or temporal accumulation: the image that feeds the next frame's colour
+// pyramid (reflections of reflections): without the debug view, and with this frame's own
+// reflection rather than the accumulated one. An accumulated reflection in that loop would lag
+// every bounce by the accumulation's time constant, one more per bounce: a still camera took
+// 16 frames and more to converge (tests/stability/stability_test.py converge).
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D plainOut;
+layout(set = 0, binding = 13) uniform sampler2D rawReflectionTex;  // temporal: this frame's
 
 // reflections.debug_view (DebugView): a specialization constant, so that the plain composite
 // carries none of the debug views' fetches (lavapipe runs both sides of a uniform branch).
 layout(constant_id = 0) const uint kDebugView = 0u;
+// reflections.temporal: reflectionTex is the accumulated reflection, rawReflectionTex this frame's.
+layout(constant_id = 1) const uint kTemporal = 0u;
 
 vec3 heat(float x) {
     x = clamp(x, 0.0, 1.0);
@@ -61,6 +68,7 @@ void main() {
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
     bool reflective = depth > 0.0 && m.reflective;
     vec3 color = lit;
+    vec3 plain = lit;
     if (reflective) {
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec3 p = worldAt(vec2(pixel) + 0.5, depth);
@@ -68,12 +76,12 @@ void main() {
         float NoV = clamp(dot(normalize(normalRough.xyz), v), 0.0, 1.0);
         vec2 dfg = textureLod(dfgTex, vec2(NoV, m.roughness), 0.0).rg;
         vec3 f0 = specularF0(albedo.rgb, albedo.a);
-        color = lit + texelFetch(reflectionTex, pixel, 0).rgb * (f0 * dfg.x + dfg.y);
+        vec3 specular = f0 * dfg.x + dfg.y;
+        color = lit + texelFetch(reflectionTex, pixel, 0).rgb * specular;
+        plain = kTemporal != 0u ? lit + texelFetch(rawReflectionTex, pixel, 0).rgb * specular : color;
     }
+    if (kDebugView != 0u || kTemporal != 0u) imageStore(plainOut, pixel, vec4(plain, 1.0));
     // Debug colours are divided by the exposure so that they reach the screen near their value.
-    if (kDebugView != 0u) {
-        imageStore(plainOut, pixel, vec4(color, 1.0));
-        color = debugView(kDebugView, pixel, reflective, lit) * rf.invExposure;
-    }
+    if (kDebugView != 0u) color = debugView(kDebugView, pixel, reflective, lit) * rf.invExposure;
     imageStore(dst, pixel, vec4(color, 1.0));
 }

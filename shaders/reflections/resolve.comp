@@ -33,8 +33,8 @@ layout(constant_id = 0) const uint kHalf = 0u;
 layout(constant_id = 1) const uint kStochastic = 0u;
 
 // The reflected distance the temporal pass reprojects by (method.a): the screen-space hit's
-// when screen space covers most, the sky's (65504, the largest half float: a direction) when
-// the sky does, 0 (unknown: reproject by the surface) when the probes do.
+// when screen space covers most, the probes' proxy distance when they do, the sky's (65504, the
+// largest half float: a direction) when the sky does; 0: unknown (reproject by the surface).
 const float kSkyDistance = 65504.0;
 
 // tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
@@ -183,8 +183,9 @@ void main() {
         // space leaves something (the probe lookup is most of this pass's cost past the cone).
         vec4 probe = vec4(0.0);
         vec3 env = vec3(0.0);
+        float proxyDistance = 0.0;
         if (coverage < 1.0 || !finite3(screen)) {
-            probe = sampleProbes(rf.probeCount, p, n, r, m.roughness);
+            probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
             vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
             env = probe.rgb + (1.0 - probe.a) * sky;
         }
@@ -192,7 +193,7 @@ void main() {
         if (!finite3(radiance)) radiance = env;
         reflection = vec4(max(radiance, vec3(0.0)), coverage);
         method = vec4(coverage, (1.0 - coverage) * probe.a, (1.0 - coverage) * (1.0 - probe.a), 0.0);
-        method.a = method.r >= max(method.g, method.b) ? hitDistance : method.b > method.g ? kSkyDistance : 0.0;
+        method.a = method.r >= max(method.g, method.b) ? hitDistance : method.b > method.g ? kSkyDistance : proxyDistance;
     }
     imageStore(reflectionOut, out_, reflection);
     imageStore(methodOut, out_, method);

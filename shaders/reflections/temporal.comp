@@ -9,7 +9,8 @@
 // The two are blended by roughness (the reflected point's weight falls from 1 at 0.05 to 0 at
 // 0.35, where a lobe's footprint is wider than its parallax). Each is rejected where the
 // previous frame saw another surface there: depth off by more than 2% (the surface's), normal
-// off by more than 25 degrees (18 for the reflected point's), roughness changed by more than 0.1.
+// off by more than 25 degrees (18 for the reflected point's), roughness changed by more than
+// 0.1; a surface that was hidden (disoccluded) takes no history at all.
 // The history left is clipped to the current 3x3 neighbourhood's mean +- temporal_clip
 // standard deviations (Salvi's variance clipping) and blended with weight temporal_alpha for
 // this frame. Without a history (first frame, cut, resize, settings change) this frame is the
@@ -25,7 +26,7 @@ layout(set = 0, binding = 3) uniform sampler2D emissiveTex;     // a: flags | ma
 layout(set = 0, binding = 5) uniform sampler2D motionTex;       // uv - previous uv
 layout(set = 0, binding = 6) uniform sampler2D reflectionTex;   // this frame's, full size
 layout(set = 0, binding = 7) uniform sampler2D methodTex;       // a: reflected distance
-layout(set = 0, binding = 8) uniform sampler2D historyTex;      // bilinear: accumulated reflection
+layout(set = 0, binding = 8) uniform sampler2D historyTex;      // texelFetch: accumulated reflection
 layout(set = 0, binding = 9) uniform sampler2D historyNormal;   // texelFetch: xyz normal, w roughness (< 0 none)
 layout(set = 0, binding = 10) uniform sampler2D historyDepth;   // texelFetch
 layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D accumulatedOut;
@@ -89,21 +90,32 @@ void main() {
         float dist = texelFetch(methodTex, pixel, 0).a;
         bool validV = false;
         vec2 prevV = vec2(-1.0);
+        ivec2 prevVPixel = ivec2(0);
         if (dist > 0.0) {
             vec3 viewDir = normalize(p - rf.eye);
             vec4 virt = dist >= kSkyDistance ? vec4(viewDir, 0.0) : vec4(p + viewDir * dist, 1.0);
             vec4 clip = rf.prevViewProj * virt;
             prevV = clip.w > 0.0 ? ndcToUV(clip.xy / clip.w) : vec2(-1.0);
-            validV = insideUV(prevV) && sameMaterialThere(ivec2(floor(prevV * rf.size.xy)), n, m.roughness, 0.95);
+            prevVPixel = ivec2(floor(prevV * rf.size.xy));
+            validV = insideUV(prevV) && sameMaterialThere(prevVPixel, n, m.roughness, 0.95);
         }
         float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
-        float wV = validV ? (validS ? sharp : 1.0) : 0.0;
+        // A surface the previous frame did not see (disocclusion) has no history at all: the
+        // reflected point's may look valid there (the mirror beside it) but belongs to pixels
+        // the occluder's reflection was in (tests/stability: 12% left after 8 frames with it).
+        float wV = validS && validV ? sharp : 0.0;
         float wS = validS ? 1.0 - wV : 0.0;
         if (wS + wV > 0.0) {
             vec3 h = vec3(0.0);
-            if (wS > 0.0) h += wS * textureLod(historyTex, prevS, 0.0).rgb;
-            if (wV > 0.0) h += wV * textureLod(historyTex, prevV, 0.0).rgb;
-            h = clipToBox(h / (wS + wV), m1 - rf.temporalClip * sigma, m1 + rf.temporalClip * sigma);
+            // The texels whose surface was checked, not a bilinear blend: a blend takes the other
+            // side of a disocclusion's edge too (tests/stability: 27% off at the motion's end).
+            if (wS > 0.0) h += wS * texelFetch(historyTex, prevSPixel, 0).rgb;
+            if (wV > 0.0) h += wV * texelFetch(historyTex, prevVPixel, 0).rgb;
+            // The box always holds this frame's own value: a one-pixel feature (a thin post's
+            // reflection) lies outside its neighbourhood's spread, and clipping the history
+            // there would bias a still image toward the neighbours for ever (tests/stability).
+            vec3 lo = min(m1 - rf.temporalClip * sigma, current.rgb), hi = max(m1 + rf.temporalClip * sigma, current.rgb);
+            h = clipToBox(h / (wS + wV), lo, hi);
             vec3 blended = mix(h, current.rgb, rf.temporalAlpha);
             if (finite3(blended)) result.rgb = max(blended, vec3(0.0));
         }
