@@ -157,7 +157,9 @@ def capture(tools, view, size, method_sets, aov, suite, out):
     if "path" not in view:
         cmd += ["--frames", str(suite["frames"])]
     for s in method_sets:
-        cmd += ["--set", s]
+        # "@FILE": a settings file (a preset such as assets/settings/medium.json), relative to
+        # the source tree; anything else is one KEY=VALUE.
+        cmd += ["--settings", str(SOURCE / s[1:])] if s.startswith("@") else ["--set", s]
     out.mkdir(parents=True, exist_ok=True)
     if run(cmd, out / "log.txt") != 0:
         fail(f"speculum-capture failed ({' '.join(map(str, cmd))}); see {out / 'log.txt'}", 1)

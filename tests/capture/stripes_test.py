@@ -19,7 +19,7 @@ are at most max(RATIO, SLACK x the exhaustive march's). The exhaustive march has
 and no cell crossing, so what Hi-Z adds on top of it is what its traversal does: the stripes of
 the seed (rays that miss or self-hit along rows or columns of cell boundaries at some sizes)
 raise one row's or column's mean far past its neighbours'. The test fails on such a mutation
-(every eighth row of rays reported as a miss): see modules/reflections/README.md.
+(every eighth row of rays reported as a miss): see modules/reflections/MEASUREMENTS.md.
 
 The exhaustive march (also modules/reflections/bench.py's accuracy reference) is the linear
 tracer at one-pixel steps across the whole screen with deep refinement.
