@@ -2,6 +2,7 @@
 // accuracy tests (one implementation: metrics.cpp).
 //   speculum-metrics compare --test T.exr --ref R.exr [--ref-mask REFLECTIVE.exr]
 //                            [--test-mask REFLECTION.exr] [--scale S] [--heatmap OUT.png]
+//                            [--band-image ROUGHNESS.exr --bands 0,0.1,0.3,1.01]
 //   speculum-metrics flicker --test DIR --ref DIR --aov NAME --frames N [--ref-mask-aov NAME]
 //                            [--test-mask-aov NAME] [--scale S]
 // Exit 0 done, 2 bad arguments, 3 an image cannot be read or sizes differ.
@@ -23,7 +24,8 @@ using namespace speculum;
 namespace {
 
 struct Options {
-    std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov;
+    std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov, bandImage;
+    std::vector<float> bands;
     float scale = 1.0f;
     int frames = 0;
 };
@@ -48,7 +50,22 @@ int compare(const Options& o) {
     metrics::Scores s = metrics::compare(test, ref, mask, o.scale);
     if (!o.heatmap.empty())
         metrics::writePng(o.heatmap, ref.width, ref.height, metrics::heatmap(test, ref, mask, o.scale));
-    std::cout << toJson(s).dump() << "\n";
+    nlohmann::json j = toJson(s);
+    if (!o.bandImage.empty()) {
+        // Per band [edge i, edge i+1) of the band image (the roughness AOV): which method is the
+        // more accurate per roughness (issue 13: cone against stochastic glossy).
+        if (o.bands.size() < 2) throw argumentError("--bands needs at least two increasing edges");
+        metrics::Image band = metrics::load(o.bandImage);
+        j["bands"] = nlohmann::json::array();
+        for (size_t b = 0; b + 1 < o.bands.size(); ++b) {
+            if (!(o.bands[b] < o.bands[b + 1])) throw argumentError("--bands must increase");
+            nlohmann::json e = toJson(metrics::compare(test, ref, metrics::bandMask(mask, band, o.bands[b], o.bands[b + 1]), o.scale));
+            e["lo"] = o.bands[b];
+            e["hi"] = o.bands[b + 1];
+            j["bands"].push_back(e);
+        }
+    }
+    std::cout << j.dump() << "\n";
     return 0;
 }
 
@@ -87,6 +104,8 @@ int main(int argc, char** argv) {
     cmp->add_option("--test-mask", o.testMask, "engine 'reflection' AOV: non-zero pixels count");
     cmp->add_option("--scale", o.scale, "multiplier before clamping to [0, 1] (the scene's exposure)");
     cmp->add_option("--heatmap", o.heatmap, "write an error heatmap PNG");
+    cmp->add_option("--band-image", o.bandImage, "image whose first channel splits the scores into bands (roughness AOV)");
+    cmp->add_option("--bands", o.bands, "band edges, increasing: [edge i, edge i+1)")->delimiter(',');
     CLI::App* fl = cli.add_subcommand("flicker", "excess flicker of a frame sequence against its reference");
     fl->add_option("--test", o.test, "engine output folder")->required();
     fl->add_option("--ref", o.ref, "reference output folder")->required();

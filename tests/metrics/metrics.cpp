@@ -59,6 +59,16 @@ std::vector<uint8_t> reflectiveMask(uint32_t width, uint32_t height, const Image
     return mask;
 }
 
+std::vector<uint8_t> bandMask(const std::vector<uint8_t>& mask, const Image& band, float lo, float hi) {
+    if (mask.size() != band.pixels.size()) throw Error(ExitCode::BadInput, "bands: the band image's size differs");
+    std::vector<uint8_t> out(mask.size());
+    for (size_t i = 0; i < mask.size(); ++i) {
+        float v = band.pixels[i].x;
+        out[i] = mask[i] && v >= lo && v < hi;
+    }
+    return out;
+}
+
 Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale) {
     checkSizes(test, reference, "compare");
     if (mask.size() != test.pixels.size()) throw Error(ExitCode::BadInput, "compare: mask size differs from the images");

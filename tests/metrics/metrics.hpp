@@ -37,6 +37,10 @@ struct Scores {
 inline constexpr double kGross = 0.25;
 inline constexpr double kMaxPsnr = 100.0;
 
+// The mask restricted to pixels whose `band` value (channel 0, e.g. the roughness AOV) lies in
+// [lo, hi): per-roughness-band scores. Throws Error(ExitCode::BadInput) when the sizes differ.
+std::vector<uint8_t> bandMask(const std::vector<uint8_t>& mask, const Image& band, float lo, float hi);
+
 // Throws Error(ExitCode::BadInput) when the sizes differ.
 Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale);
 

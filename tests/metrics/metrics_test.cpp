@@ -86,3 +86,11 @@ TEST(Metrics, HeatmapSaturatesAtGrossError) {
     EXPECT_EQ(rgb[3], 255);                       // gross: yellow
     EXPECT_EQ(rgb[6], rgb[7]);                    // outside the mask: grey
 }
+
+TEST(Metrics, BandMaskKeepsMaskedPixelsWithinTheBand) {
+    metrics::Image band{4, 1, {{0.0f, 0, 0}, {0.1f, 0, 0}, {0.3f, 0, 0}, {0.9f, 0, 0}}};
+    std::vector<uint8_t> mask{1, 1, 0, 1};
+    EXPECT_EQ(metrics::bandMask(mask, band, 0.0f, 0.2f), (std::vector<uint8_t>{1, 1, 0, 0}));
+    EXPECT_EQ(metrics::bandMask(mask, band, 0.2f, 1.0f), (std::vector<uint8_t>{0, 0, 0, 1}));
+    EXPECT_THROW(metrics::bandMask({1, 1}, band, 0.0f, 1.0f), Error);
+}
