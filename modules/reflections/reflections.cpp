@@ -270,7 +270,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.visibility = m.addVisibility(graph, out.hiz, levels);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     TextureHandle guide;
-    if (s.resolution == Resolution::Half) guide = m.addGuide(graph, in, out.hiz);
+    if (s.resolution == Resolution::Half) out.guide = guide = m.addGuide(graph, in, out.hiz);
     out.hit = m.addTrace(graph, in, out.hiz, guide, s);
     m.addResolve(graph, in, guide, s.glossy, out);
     if (guide.valid()) {

@@ -21,7 +21,8 @@ namespace {
 
 struct Readback {
     std::vector<std::vector<reflections::MinMax>> hiz;  // per level
-    std::vector<glm::vec4> hit;
+    std::vector<glm::vec4> hit;    // at the trace's size
+    std::vector<glm::vec4> guide;  // half resolution only
     app::FrameResult result;
 };
 
@@ -35,6 +36,9 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
         hizBuffers.emplace_back(ctx, VkDeviceSize(reflections::levelSize(w, l)) * reflections::levelSize(h, l) * 8,
                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hiz");
     gpu::Buffer hitBuffer(ctx, VkDeviceSize(w) * h * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.hit");
+    const bool half = s.resolution == reflections::Resolution::Half;
+    const uint32_t hw = half ? (w + 1) / 2 : w, hh = half ? (h + 1) / 2 : h;
+    gpu::Buffer guideBuffer(ctx, VkDeviceSize(hw) * hh * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.guide");
     render::FrameInputs frame{camera, camera};
     app::LitHook hook;
     hook.modules = {reflections::moduleInfo()};
@@ -42,14 +46,16 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
     hook.addPasses = [&](FrameGraph& fg, const render::GBuffer& g, TextureHandle lit, app::ModuleAovs& m) {
         reflections::ReflectionOutputs out = module.addPasses(fg, {g, lit, frame}, s);
         m.provided["reflection"] = {out.reflection, 3};
+        m.provided["method"] = {out.method, 3};
         struct Data {
-            TextureHandle hiz, hit;
+            TextureHandle hiz, hit, guide;
         };
         fg.addPass<Data>(
             "test.readback", PassType::Transfer,
             [&](PassBuilder& b, Data& d) {
                 d.hiz = b.read(out.hiz, TextureUsage::TransferSrc);
                 d.hit = b.read(out.hit, TextureUsage::TransferSrc);
+                if (out.guide.valid()) d.guide = b.read(out.guide, TextureUsage::TransferSrc);
                 b.sideEffect();
             },
             [&, levels](const Data& d, PassContext& pc) {
@@ -62,9 +68,12 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
                 }
                 VkBufferImageCopy c{};
                 c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                c.imageExtent = {w, h, 1};
+                c.imageExtent = {hw, hh, 1};
                 vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.hit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, hitBuffer.get(),
                                        1, &c);
+                if (d.guide.valid())
+                    vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.guide), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                           guideBuffer.get(), 1, &c);
             });
         return out.lit;
     };
@@ -77,8 +86,12 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
         std::memcpy(level.data(), hizBuffers[l].mapped(), n * sizeof(reflections::MinMax));
         r.hiz.push_back(std::move(level));
     }
-    r.hit.resize(size_t(w) * h);
+    r.hit.resize(size_t(hw) * hh);
     std::memcpy(r.hit.data(), hitBuffer.mapped(), r.hit.size() * sizeof(glm::vec4));
+    if (half) {
+        r.guide.resize(size_t(hw) * hh);
+        std::memcpy(r.guide.data(), guideBuffer.mapped(), r.guide.size() * sizeof(glm::vec4));
+    }
     return r;
 }
 
@@ -261,4 +274,65 @@ TEST_F(ReflectionsGpu, ReflectionIsFiniteAndNonNegativeEverywhere) {
                 EXPECT_EQ(bad, 0u) << name << "/" << camera.name << " at " << w << "x" << h;
             }
     }
+}
+
+// reflections.guide against its rule computed on the CPU from the depth and the full-resolution
+// method AOV (reflective where the weights sum to 1), at an odd size (the last row and column
+// of 2x2 blocks are clamped): per half pixel, reflective pixels first, then the closest depth on
+// even checkerboard squares and the farthest on odd ones, the first of equals; and the world
+// position it stores is the chosen pixel's.
+TEST_F(ReflectionsGpu, GuidePicksByItsRuleAtOddSizes) {
+    Scene scene = loadScene(assetPath("assets/scenes/gallery.gltf"));
+    render::Renderer renderer(*ctx_, scene);
+    reflections::Reflections module(*ctx_, renderer);
+    const uint32_t w = 317, h = 181, hw = (w + 1) / 2, hh = (h + 1) / 2;
+    render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
+    Readback full = renderWithModule(*ctx_, renderer, module, {}, cam, {"depth", "method"});
+    reflections::ReflectionSettings s;
+    s.resolution = reflections::Resolution::Half;
+    Readback half = renderWithModule(*ctx_, renderer, module, s, cam, {});
+    const auto& depth = full.result.aovs.at("depth").rgba;
+    const auto& method = full.result.aovs.at("method").rgba;
+    ASSERT_EQ(half.guide.size(), size_t(hw) * hh);
+    int wrong = 0, reflectiveHalf = 0;
+    for (uint32_t y = 0; y < hh; ++y)
+        for (uint32_t x = 0; x < hw; ++x) {
+            bool closest = ((x + y) & 1) == 0;
+            int best = 0;
+            float bestDepth = -1.0f;
+            bool bestReflective = false;
+            for (int i = 0; i < 4; ++i) {
+                uint32_t px = std::min(2 * x + (i & 1), w - 1), py = std::min(2 * y + (i >> 1), h - 1);
+                size_t k = (size_t(py) * w + px) * 4;
+                float d = depth[k];
+                bool reflective = d > 0.0f && method[k] + method[k + 1] + method[k + 2] > 0.5f;
+                bool better = bestDepth < 0.0f || (reflective && !bestReflective) ||
+                              (reflective == bestReflective && (closest ? d > bestDepth : d < bestDepth));
+                if (better) {
+                    best = i;
+                    bestDepth = d;
+                    bestReflective = reflective;
+                }
+            }
+            const glm::vec4& g = half.guide[size_t(y) * hw + x];
+            int index = int(std::abs(g.w)) - 1;
+            bool reflective = g.w > 0.0f;
+            reflectiveHalf += reflective;
+            if (index != best || reflective != bestReflective) {
+                if (++wrong <= 5)
+                    ADD_FAILURE() << "half pixel " << x << "," << y << ": guide index " << index << (reflective ? "+" : "-")
+                                  << ", rule " << best << (bestReflective ? "+" : "-");
+                continue;
+            }
+            if (bestDepth > 0.0f) {
+                uint32_t px = std::min(2 * x + (best & 1), w - 1), py = std::min(2 * y + (best >> 1), h - 1);
+                glm::vec2 uv((float(px) + 0.5f) / float(w), (float(py) + 0.5f) / float(h));
+                glm::vec4 p = cam.invViewProj * glm::vec4(uv * 2.0f - 1.0f, bestDepth, 1.0f);
+                glm::vec3 world = glm::vec3(p) / p.w;
+                ASSERT_LT(glm::length(world - glm::vec3(g)), 1e-3f * (1.0f + glm::length(world))) << x << "," << y;
+            }
+        }
+    EXPECT_EQ(wrong, 0);
+    EXPECT_GT(reflectiveHalf, int(hw * hh) / 4);  // the scene is mostly reflective
+    EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
 }
