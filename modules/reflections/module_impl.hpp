@@ -97,8 +97,10 @@ struct Reflections::Impl {
                            const ReflectionSettings& s);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
                     ReflectionOutputs& out);
-    // Accumulates out.reflection over frames into the history; returns the accumulated image.
-    TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out);
+    // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
+    // image. `method` at the trace's size (its alpha: the reflected distance).
+    TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle reflection,
+                              TextureHandle method);
     struct Composited {
         TextureHandle shown;    // the lit image, or the debug view
         TextureHandle history;  // the lit image with this frame's own reflection (the next colour pyramid's)

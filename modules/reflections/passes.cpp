@@ -293,7 +293,8 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
     return {d.dst, separate ? d.plain : d.dst};
 }
 
-TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out) {
+TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
+                                             TextureHandle reflection, TextureHandle method) {
     struct Data {
         TextureHandle hiz, normal, emissive, motion, reflection, method, history, historyNormal, historyDepth, dst,
             dstNormal;
@@ -303,12 +304,12 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
     const auto& d = g.addPass<Data>(
         "reflections.temporal", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
-            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
-            data.reflection = b.read(out.reflection, TextureUsage::Sampled);
-            data.method = b.read(out.method, TextureUsage::Sampled);
+            data.reflection = b.read(reflection, TextureUsage::Sampled);
+            data.method = b.read(method, TextureUsage::Sampled);
             data.history = b.read(historyReflection.previous, TextureUsage::Sampled);
             data.historyNormal = b.read(historyNormal.previous, TextureUsage::Sampled);
             data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);

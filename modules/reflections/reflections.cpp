@@ -273,16 +273,18 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     if (s.resolution == Resolution::Half) out.guide = guide = m.addGuide(graph, in, out.hiz);
     out.hit = m.addTrace(graph, in, out.hiz, guide, s);
     m.addResolve(graph, in, guide, s.glossy, out);
+    // The temporal pass reads the reflected distance (method.a) at the trace's resolution.
+    TextureHandle traceMethod = out.method;
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
-        auto full = m.upsampler.addPass(
-            graph, {in.gbuffer.depth, in.gbuffer.normal, guide, {out.reflection, out.method}, cam.invViewProj, cam.position},
-            "reflections.upsampled");
-        out.reflection = full[0];
-        out.method = full[1];
+        UpsampleInputs up{in.gbuffer.depth, in.gbuffer.normal, guide, out.reflection, cam.invViewProj, cam.position};
+        out.reflection = m.upsampler.addPass(graph, up, "reflections.upsample", "reflections.reflection");
+        // Culled unless the method AOV or a debug view reads it.
+        up.low = out.method;
+        out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");
     }
     TextureHandle raw = out.reflection;
-    if (s.temporal) out.reflection = m.addTemporal(graph, in, out);
+    if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, traceMethod);
     Impl::Composited composited = m.addComposite(graph, in, out, s.debugView, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);

@@ -22,50 +22,44 @@ BilateralUpsampler::BilateralUpsampler(const gpu::Context& ctx)
                                             {1, kSampled, kCompute},
                                             {2, kSampled, kCompute},
                                             {3, kSampled, kCompute},
-                                            {4, kSampled, kCompute},
-                                            {5, kStorage, kCompute},
-                                            {6, kStorage, kCompute}},
+                                            {4, kStorage, kCompute}},
                                            sizeof(shader::UpsampleParams), "reflections.upsample")),
       nearest_(gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)) {}
 
-std::array<TextureHandle, 2> BilateralUpsampler::addPass(FrameGraph& g, const UpsampleInputs& in,
-                                                         const std::string& name) const {
+TextureHandle BilateralUpsampler::addPass(FrameGraph& g, const UpsampleInputs& in, const std::string& pass,
+                                          const std::string& name) const {
     struct Data {
-        TextureHandle depth, normal, guide, lowA, lowB, fullA, fullB;
+        TextureHandle depth, normal, guide, low, full;
     };
     shader::UpsampleParams params{};
     params.invViewProj = in.invViewProj;
     params.eye = glm::vec4(in.eye, 0.0f);
     const auto& d = g.addPass<Data>(
-        "reflections.upsample", PassType::Compute,
+        pass, PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.depth = b.read(in.depth, TextureUsage::Sampled);
             data.normal = b.read(in.normal, TextureUsage::Sampled);
             data.guide = b.read(in.guide, TextureUsage::Sampled);
-            data.lowA = b.read(in.low[0], TextureUsage::Sampled);
-            data.lowB = b.read(in.low[1], TextureUsage::Sampled);
-            TextureDesc full{.format = kFormat, .relativeTo = in.depth};
-            data.fullA = b.write(b.create(name + ".0", full), TextureUsage::StorageWrite);
-            data.fullB = b.write(b.create(name + ".1", full), TextureUsage::StorageWrite);
+            data.low = b.read(in.low, TextureUsage::Sampled);
+            data.full = b.write(b.create(name, TextureDesc{.format = kFormat, .relativeTo = in.depth}),
+                                TextureUsage::StorageWrite);
         },
         [this, base = params](const Data& data, PassContext& pc) {
-            VkExtent2D full = pc.extent(data.fullA), low = pc.extent(data.guide);
+            VkExtent2D full = pc.extent(data.full), low = pc.extent(data.guide);
             shader::UpsampleParams params = base;
             params.size = glm::vec4(float(full.width), float(full.height), float(low.width), float(low.height));
             gpu::DescriptorWriter w;
             w.sampled(0, pc.view(data.depth), nearest_.get())
                 .sampled(1, pc.view(data.normal), nearest_.get())
                 .sampled(2, pc.view(data.guide), nearest_.get())
-                .sampled(3, pc.view(data.lowA), nearest_.get())
-                .sampled(4, pc.view(data.lowB), nearest_.get())
-                .storage(5, pc.view(data.fullA))
-                .storage(6, pc.view(data.fullB));
+                .sampled(3, pc.view(data.low), nearest_.get())
+                .storage(4, pc.view(data.full));
             pipeline_.bind(pc.cmd());
             w.push(ctx_, pc.cmd(), pipeline_);
             vkCmdPushConstants(pc.cmd(), pipeline_.layout(), kCompute, 0, sizeof(params), &params);
             vkCmdDispatch(pc.cmd(), (full.width + 7) / 8, (full.height + 7) / 8, 1);
         });
-    return {d.fullA, d.fullB};
+    return d.full;
 }
 
 }  // namespace speculum::reflections

@@ -9,11 +9,13 @@
 // samples: a halo).
 // Out (RGBA32F): xyz the world position of the chosen pixel (so that the upsampler reconstructs
 // one position per pixel, not five: a matrix product per sample cost it a third of its time),
-// w = +-(1 + i) with i the pixel's index in its 2x2 (x + 2 y), positive when it reflects,
-// negative when not (its reflection is 0 and the upsampler gives it no weight). guidePixel()
-// of common.glsl turns it back into the pixel.
+// w = packGuide(): the pixel's index in its 2x2 (x + 2 y), its G-buffer roughness and normal,
+// positive when it reflects, negative when not (its reflection is 0 and the upsampler gives it
+// no weight); reflections/guide_pack.glsl. guidePixel() of common.glsl turns it back into the
+// pixel.
 #include "reflections/common.glsl"
 #include "reflections/material.glsl"
+#include "reflections/guide_pack.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -47,5 +49,6 @@ void main() {
     }
     ivec2 best = min(half_ * 2 + ivec2(bestIndex & 1, bestIndex >> 1), fullSize - 1);
     vec3 world = bestDepth > 0.0 ? worldAt(vec2(best) + 0.5, bestDepth) : vec3(0.0);
-    imageStore(guideOut, half_, vec4(world, float(1 + bestIndex) * (bestReflective ? 1.0 : -1.0)));
+    vec4 normalRough = texelFetch(normalTex, best, 0);
+    imageStore(guideOut, half_, vec4(world, packGuide(bestIndex, bestReflective, normalRough.w, normalRough.xyz)));
 }

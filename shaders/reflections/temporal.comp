@@ -25,7 +25,7 @@ layout(set = 0, binding = 2) uniform sampler2D normalTex;       // xyz normal, w
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;     // a: flags | material index
 layout(set = 0, binding = 5) uniform sampler2D motionTex;       // uv - previous uv
 layout(set = 0, binding = 6) uniform sampler2D reflectionTex;   // this frame's, full size
-layout(set = 0, binding = 7) uniform sampler2D methodTex;       // a: reflected distance
+layout(set = 0, binding = 7) uniform sampler2D methodTex;       // trace size; a: reflected distance
 layout(set = 0, binding = 8) uniform sampler2D historyTex;      // texelFetch: accumulated reflection
 layout(set = 0, binding = 9) uniform sampler2D historyNormal;   // texelFetch: xyz normal, w roughness (< 0 none)
 layout(set = 0, binding = 10) uniform sampler2D historyDepth;   // texelFetch
@@ -87,7 +87,7 @@ void main() {
         bool validS = insideUV(prevS) && abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
                       sameMaterialThere(prevSPixel, n, m.roughness, 0.9);
         // The reflected point's previous position.
-        float dist = texelFetch(methodTex, pixel, 0).a;
+        float dist = texelFetch(methodTex, ivec2(vec2(pixel) / rf.traceScale), 0).a;  // at the trace's size
         bool validV = false;
         vec2 prevV = vec2(-1.0);
         ivec2 prevVPixel = ivec2(0);

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// reflections.upsample: joint bilateral upsampling (Kopf et al. 2007) of the half-resolution
-// reflection and method images to full resolution, guided by full-resolution depth and normals.
+// reflections.upsample: joint bilateral upsampling (Kopf et al. 2007) of a half-resolution image
+// (the reflection; the method weights in a pass of their own, which the frame graph drops when
+// nothing reads them) to full resolution, guided by full-resolution depth and normals.
 // Each full pixel weighs the four low-resolution samples around it by their bilinear weight times
 // three edge-stopping terms, computed against the sample's own full-resolution pixel (the guide
 // says which one it traced, reflections/guide.comp):
@@ -16,16 +17,15 @@
 // with exp(-100 x) for the plane term, which never reaches 0) is taken whole: a pixel is never a blend across an edge and never black for lack of weight.
 #include "common/camera.glsl"
 #include "reflections/upsample.h"
+#include "reflections/guide_pack.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0) uniform sampler2D depthTex;   // full: reversed-Z depth (nearest)
 layout(set = 0, binding = 1) uniform sampler2D normalTex;  // full: xyz normal, w roughness
-layout(set = 0, binding = 2) uniform sampler2D guideTex;   // low: xyz world position, w +-(1 + index in the 2x2)
-layout(set = 0, binding = 3) uniform sampler2D lowA;       // low: first image
-layout(set = 0, binding = 4) uniform sampler2D lowB;       // low: second image (same weights)
-layout(set = 0, binding = 5, rgba16f) uniform writeonly image2D fullA;
-layout(set = 0, binding = 6, rgba16f) uniform writeonly image2D fullB;
+layout(set = 0, binding = 2) uniform sampler2D guideTex;   // low: xyz world position, w packGuide()
+layout(set = 0, binding = 3) uniform sampler2D lowTex;     // low: the image
+layout(set = 0, binding = 4, rgba16f) uniform writeonly image2D fullOut;
 
 vec3 worldAtPixel(vec2 px, float depth) {
     return worldFromDepth(px / up.size.xy, depth, up.invViewProj);
@@ -36,8 +36,7 @@ void main() {
     if (any(greaterThanEqual(pixel, ivec2(up.size.xy)))) return;
     float depth = texelFetch(depthTex, pixel, 0).r;
     if (depth <= 0.0) {  // the sky reflects nothing (and has no plane to compare with)
-        imageStore(fullA, pixel, vec4(0.0));
-        imageStore(fullB, pixel, vec4(0.0));
+        imageStore(fullOut, pixel, vec4(0.0));
         return;
     }
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
@@ -49,7 +48,7 @@ void main() {
     ivec2 base = ivec2(floor(lowPos));
     vec2 f = lowPos - vec2(base);
     ivec2 lowMax = ivec2(up.size.zw) - 1;
-    vec4 sumA = vec4(0.0), sumB = vec4(0.0);
+    vec4 sum = vec4(0.0);
     float total = 0.0;
     float bestAgree = -1.0;
     ivec2 bestSample = clamp(base, ivec2(0), lowMax);
@@ -57,32 +56,20 @@ void main() {
         ivec2 o = ivec2(i & 1, i >> 1);
         ivec2 s = clamp(base + o, ivec2(0), lowMax);
         vec4 guide = texelFetch(guideTex, s, 0);
-        int index = int(abs(guide.w)) - 1;
-        ivec2 q = min(s * 2 + ivec2(index & 1, index >> 1), ivec2(up.size.xy) - 1);
-        vec4 sNormalRough = texelFetch(normalTex, q, 0);
+        GuideSample g = unpackGuide(guide.w);
         float plane = abs(dot(n, guide.xyz - p)) * invDist;
-        float others = pow(max(dot(n, normalize(sNormalRough.xyz)), 0.0), 32.0) *
-                       clamp(1.0 - (abs(sNormalRough.w - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
-                       (guide.w > 0.0 ? 1.0 : 0.0);
+        float others = pow(max(dot(n, g.normal), 0.0), 32.0) *
+                       clamp(1.0 - (abs(g.roughness - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
+                       (g.reflective ? 1.0 : 0.0);
         float agree = exp(-plane * 100.0) * others;
         vec2 b = mix(1.0 - f, f, vec2(o));
         float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;
-        sumA += w * texelFetch(lowA, s, 0);
-        sumB += w * texelFetch(lowB, s, 0);
+        sum += w * texelFetch(lowTex, s, 0);
         total += w;
         if (agree > bestAgree) {
             bestAgree = agree;
             bestSample = s;
         }
     }
-    vec4 a, b;
-    if (total > 1e-6) {
-        a = sumA / total;
-        b = sumB / total;
-    } else {
-        a = texelFetch(lowA, bestSample, 0);
-        b = texelFetch(lowB, bestSample, 0);
-    }
-    imageStore(fullA, pixel, a);
-    imageStore(fullB, pixel, b);
+    imageStore(fullOut, pixel, total > 1e-6 ? sum / total : texelFetch(lowTex, bestSample, 0));
 }

@@ -287,12 +287,14 @@ TEST_F(ReflectionsGpu, GuidePicksByItsRuleAtOddSizes) {
     reflections::Reflections module(*ctx_, renderer);
     const uint32_t w = 317, h = 181, hw = (w + 1) / 2, hh = (h + 1) / 2;
     render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
-    Readback full = renderWithModule(*ctx_, renderer, module, {}, cam, {"depth", "method"});
+    Readback full = renderWithModule(*ctx_, renderer, module, {}, cam, {"depth", "method", "normal", "roughness"});
     reflections::ReflectionSettings s;
     s.resolution = reflections::Resolution::Half;
     Readback half = renderWithModule(*ctx_, renderer, module, s, cam, {});
     const auto& depth = full.result.aovs.at("depth").rgba;
     const auto& method = full.result.aovs.at("method").rgba;
+    const auto& normals = full.result.aovs.at("normal").rgba;
+    const auto& roughness = full.result.aovs.at("roughness").rgba;
     ASSERT_EQ(half.guide.size(), size_t(hw) * hh);
     int wrong = 0, reflectiveHalf = 0;
     for (uint32_t y = 0; y < hh; ++y)
@@ -315,7 +317,7 @@ TEST_F(ReflectionsGpu, GuidePicksByItsRuleAtOddSizes) {
                 }
             }
             const glm::vec4& g = half.guide[size_t(y) * hw + x];
-            int index = int(std::abs(g.w)) - 1;
+            int index = (int(std::abs(g.w)) - 1) & 3;  // the low bits of packGuide()
             bool reflective = g.w > 0.0f;
             reflectiveHalf += reflective;
             if (index != best || reflective != bestReflective) {
@@ -330,6 +332,17 @@ TEST_F(ReflectionsGpu, GuidePicksByItsRuleAtOddSizes) {
                 glm::vec4 p = cam.invViewProj * glm::vec4(uv * 2.0f - 1.0f, bestDepth, 1.0f);
                 glm::vec3 world = glm::vec3(p) / p.w;
                 ASSERT_LT(glm::length(world - glm::vec3(g)), 1e-3f * (1.0f + glm::length(world))) << x << "," << y;
+                // The packed normal (7-bit octahedral) and roughness (6 bits) of that pixel.
+                uint32_t bits = uint32_t(std::abs(g.w)) - 1u;
+                glm::vec2 f = glm::vec2(float((bits >> 8) & 127u), float((bits >> 15) & 127u)) / 127.0f * 2.0f - 1.0f;
+                glm::vec3 n(f, 1.0f - std::abs(f.x) - std::abs(f.y));
+                float t = std::clamp(-n.z, 0.0f, 1.0f);
+                n.x += n.x >= 0.0f ? -t : t;
+                n.y += n.y >= 0.0f ? -t : t;
+                size_t k = (size_t(py) * w + px) * 4;
+                glm::vec3 want = glm::normalize(glm::vec3(normals[k], normals[k + 1], normals[k + 2]));
+                ASSERT_GT(glm::dot(glm::normalize(n), want), std::cos(glm::radians(2.0f))) << x << "," << y;
+                ASSERT_NEAR(float((bits >> 2) & 63u) / 63.0f, roughness[k], 0.5f / 63.0f + 1e-3f) << x << "," << y;
             }
         }
     EXPECT_EQ(wrong, 0);

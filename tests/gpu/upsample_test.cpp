@@ -45,7 +45,10 @@ std::vector<glm::vec4> makeGuide(const std::vector<float>& depth) {
             }
             // World = (ndc, depth) under the identity matrix of upsample() below.
             glm::vec2 px{float(2 * x + (best & 1)) + 0.5f, float(2 * y + (best >> 1)) + 0.5f};
-            guide[y * LW + x] = {px.x / W * 2.0f - 1.0f, px.y / H * 2.0f - 1.0f, bestDepth, float(1 + best)};
+            // w: packGuide() of shaders/reflections/guide_pack.glsl for a reflective pixel with
+            // roughness 0 and normal +z (octahedral 0.5, 0.5 -> 64 of 127).
+            uint32_t bits = best | (0u << 2) | (64u << 8) | (64u << 15);
+            guide[y * LW + x] = {px.x / W * 2.0f - 1.0f, px.y / H * 2.0f - 1.0f, bestDepth, float(1u + bits)};
         }
     return guide;
 }
@@ -82,11 +85,15 @@ std::array<std::vector<float>, 2> upsample(gpu::Context& ctx, const Images& im) 
     in.depth = import(depth, "test.depth");
     in.normal = import(normal, "test.normal");
     in.guide = import(guide, "test.guide");
-    in.low = {import(lowA, "test.low_a"), import(lowB, "test.low_b")};
+    TextureHandle lowAHandle = import(lowA, "test.low_a"), lowBHandle = import(lowB, "test.low_b");
     // World = (ndc x, ndc y, depth): the plane term compares depths directly, seen from z = -2.
     in.invViewProj = glm::mat4(1.0f);
     in.eye = glm::vec3(0, 0, -2);
-    auto full = upsampler.addPass(fg, in, "test.full");
+    in.low = lowAHandle;
+    std::array<TextureHandle, 2> full;
+    full[0] = upsampler.addPass(fg, in, "reflections.upsample", "test.full.0");
+    in.low = lowBHandle;
+    full[1] = upsampler.addPass(fg, in, "reflections.upsample_method", "test.full.1");
     struct Data {
         TextureHandle a, b;
     };

@@ -1,8 +1,7 @@
-// Joint bilateral upsampling (Kopf et al. 2007) of two low-resolution images to full
-// resolution, guided by full-resolution depth and normals and by a low-resolution guide that
+// Joint bilateral upsampling (Kopf et al. 2007) of a low-resolution image to full resolution, guided by full-resolution depth and normals and by a low-resolution guide that
 // says which full pixel each low sample stands for (shaders/reflections/upsample.comp explains
-// the weights). The reflections module upsamples its half-resolution reflection and method
-// images with it; it is a pass of its own so that it is tested alone (tests/gpu/upsample_test.cpp)
+// the weights). The reflections module upsamples its half-resolution reflection and, in a pass
+// of its own that the graph culls unless something reads it, its method image with it; it is a pass of its own so that it is tested alone (tests/gpu/upsample_test.cpp)
 // and reusable by other half-resolution passes.
 #pragma once
 
@@ -11,7 +10,6 @@
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/render/renderer.hpp"
 
-#include <array>
 
 namespace speculum::reflections {
 
@@ -21,7 +19,7 @@ struct UpsampleInputs {
     // low (RGBA32F): xyz the world position of the full pixel it traced, w +-(1 + its index in
     // its 2x2, x + 2 y), positive when it reflects (shaders/reflections/guide.comp)
     TextureHandle guide;
-    std::array<TextureHandle, 2> low;  // RGBA16F, the guide's size
+    TextureHandle low;                 // RGBA16F, the guide's size
     glm::mat4 invViewProj;             // of the frame the depth belongs to
     glm::vec3 eye;
 };
@@ -29,8 +27,9 @@ struct UpsampleInputs {
 class BilateralUpsampler {
 public:
     explicit BilateralUpsampler(const gpu::Context& ctx);
-    // reflections.upsample: two RGBA16F images the size of `depth`, named name.0 and name.1.
-    std::array<TextureHandle, 2> addPass(FrameGraph& graph, const UpsampleInputs& in, const std::string& name) const;
+    // `pass` (reflections.upsample...): an RGBA16F image the size of `depth`, named `name`.
+    TextureHandle addPass(FrameGraph& graph, const UpsampleInputs& in, const std::string& pass,
+                          const std::string& name) const;
 
 private:
     const gpu::Context& ctx_;
