@@ -56,14 +56,17 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
         TextureHandle hiz, src, dst;
         uint32_t level;
     };
+    // Level 0 is fully visible by definition and nothing reads it (the colour pyramid's level 0
+    // carries 1 in alpha, and level 1 assumes it): it is never written, one full-resolution
+    // pass less (issue 13, "cheaper fixed cost").
     TextureHandle pyramid;
-    for (uint32_t level = 0; level < levels; ++level) {
+    for (uint32_t level = 1; level < levels; ++level) {
         const auto& d = g.addPass<Data>(
             levelName("visibility", level), PassType::Compute,
             [&](PassBuilder& b, Data& data) {
                 data.level = level;
                 data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
-                if (level == 0)
+                if (level == 1)
                     pyramid = b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
                 else
                     data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
@@ -71,8 +74,8 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
             },
             [this](const Data& data, PassContext& pc) {
                 gpu::DescriptorWriter w = writer();
-                // Level 0 reads no finer level: bind the Hi-Z in its place (unused).
-                VkImageView fine = data.level == 0 ? pc.view(data.hiz) : pc.view(data.src, mipLevel(data.level - 1));
+                // Level 1 reads no finer level (level 0 is 1): bind the Hi-Z in its place (unread).
+                VkImageView fine = data.level == 1 ? pc.view(data.hiz) : pc.view(data.src, mipLevel(data.level - 1));
                 w.sampled(1, pc.view(data.hiz), nearest)
                     .sampled(2, fine, nearest)
                     .storage(3, pc.view(data.dst, mipLevel(data.level)));
