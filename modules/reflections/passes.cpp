@@ -67,7 +67,8 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
                 data.level = level;
                 data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
                 if (level == 1)
-                    pyramid = b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
+                    pyramid =
+                        b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
                 else
                     data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
                 data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
@@ -87,7 +88,7 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
 }
 
 TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
-                                                uint32_t levels) {
+                                                 uint32_t levels) {
     struct ReprojectData {
         TextureHandle depth, motion, lit, historyColor, historyDepth, dst;
     };
@@ -225,7 +226,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                                   TextureUsage::StorageWrite);
         },
         [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy](const Data& data,
-                                                                                      PassContext& pc) {
+                                                                                       PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled(1, pc.view(data.hiz), nearest)

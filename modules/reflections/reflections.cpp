@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string_view>
 
 namespace speculum::reflections {
 namespace {
@@ -20,10 +21,16 @@ constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkDescriptorType kFrameBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 
-// Binding 0 is the frame's uniforms in every pipeline; then the given types in order.
-std::vector<gpu::Binding> bindings(std::initializer_list<std::pair<uint32_t, VkDescriptorType>> list) {
+// Binding 0 is the frame's uniforms in every pipeline; then bindings 1, 2, ... as the layout
+// string says, one letter per binding in the shader's order: s a sampled image, i a storage
+// image, b a storage buffer, - unused. "sssbi": sampled 1-3, the material table 4, storage 5.
+std::vector<gpu::Binding> bindings(std::string_view layout) {
     std::vector<gpu::Binding> b{{0, kFrameBuffer, kCompute}};
-    for (auto [binding, type] : list) b.push_back({binding, type, kCompute});
+    for (uint32_t i = 0; i < layout.size(); ++i) {
+        char c = layout[i];
+        if (c == '-') continue;
+        b.push_back({i + 1, c == 's' ? kSampled : c == 'i' ? kStorage : kBuffer, kCompute});
+    }
     return b;
 }
 
@@ -45,38 +52,19 @@ std::vector<glm::vec4> materialTable(const Scene& scene) {
 }  // namespace
 
 Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
-    : ctx(c), renderer(r),
-      hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", bindings({{1, kSampled}, {2, kStorage}}),
-                                     sizeof(uint32_t), "reflections.hiz")),
-      visibility(gpu::createComputePipeline(c, "reflections/visibility.comp",
-                                            bindings({{1, kSampled}, {2, kSampled}, {3, kStorage}}),
-                                            sizeof(uint32_t), "reflections.visibility")),
-      reproject(gpu::createComputePipeline(
-          c, "reflections/reproject.comp",
-          bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kSampled}, {5, kSampled}, {6, kStorage}}), 0,
-          "reflections.reproject")),
-      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp",
-                                           bindings({{1, kSampled}, {2, kStorage}, {3, kSampled}}), 0,
+    : ctx(c),
+      renderer(r),
+      hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", bindings("si"), sizeof(uint32_t), "reflections.hiz")),
+      visibility(gpu::createComputePipeline(c, "reflections/visibility.comp", bindings("ssi"), sizeof(uint32_t),
+                                            "reflections.visibility")),
+      reproject(
+          gpu::createComputePipeline(c, "reflections/reproject.comp", bindings("sssssi"), 0, "reflections.reproject")),
+      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", bindings("sis"), 0,
                                            "reflections.color_pyramid")),
-      hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings({{1, kSampled}, {2, kStorage}}), 0,
-                                         "reflections.hiz_view")),
-      guide(gpu::createComputePipeline(c, "reflections/guide.comp",
-                                       bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}}), 0,
-                                       "reflections.guide")),
-      temporal(gpu::createComputePipeline(c, "reflections/temporal.comp",
-                                          bindings({{1, kSampled},
-                                                    {2, kSampled},
-                                                    {3, kSampled},
-                                                    {4, kBuffer},
-                                                    {5, kSampled},
-                                                    {6, kSampled},
-                                                    {7, kSampled},
-                                                    {8, kSampled},
-                                                    {9, kSampled},
-                                                    {10, kSampled},
-                                                    {11, kStorage},
-                                                    {12, kStorage}}),
-                                          0, "reflections.temporal")),
+      hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings("si"), 0, "reflections.hiz_view")),
+      guide(gpu::createComputePipeline(c, "reflections/guide.comp", bindings("sssbi"), 0, "reflections.guide")),
+      temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", bindings("sssbssssssii"), 0,
+                                          "reflections.temporal")),
       upsampler(c),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
@@ -85,9 +73,10 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
     materialCount = uint32_t(table.size());
     materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                   "reflections.materials");
-    noProbeCubes = gpu::Image(c, {4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 6, true,
-                                  VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                              "reflections.no_probes");
+    noProbeCubes = gpu::Image(
+        c,
+        {4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 6, true, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+        "reflections.no_probes");
     noProbeRecords = gpu::Buffer(c, sizeof(probes::GpuProbe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
                                  "reflections.no_probe_records");
     std::memset(noProbeRecords.mapped(), 0, sizeof(probes::GpuProbe));
@@ -104,16 +93,17 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
 
 probes::ProbeSet Reflections::Impl::importNoProbes(FrameGraph& g) const {
     probes::ProbeSet set;
-    set.cubes = g.importTexture("reflections.no_probes",
-                                {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
-                                {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
+    set.cubes =
+        g.importTexture("reflections.no_probes",
+                        {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
+                        {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
     set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::GpuProbe)}, {noProbeRecords.get()});
     return set;
 }
 
-void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w,
-                                      uint32_t h, uint32_t levels) {
+void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,
+                                      uint32_t levels) {
     const render::CameraState& cam = in.frame.camera;
     FrameUniforms u{};
     u.viewProj = cam.viewProj;
@@ -189,8 +179,8 @@ gpu::DescriptorWriter Reflections::Impl::writer() const {
     return w;
 }
 
-void Reflections::Impl::dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::DescriptorWriter& w,
-                                 VkExtent2D extent, const void* push, uint32_t pushBytes) const {
+void Reflections::Impl::dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::DescriptorWriter& w, VkExtent2D extent,
+                                 const void* push, uint32_t pushBytes) const {
     p.bind(pc.cmd());
     w.push(ctx, pc.cmd(), p);
     if (push) vkCmdPushConstants(pc.cmd(), p.layout(), kCompute, 0, pushBytes, push);
@@ -209,56 +199,29 @@ void Reflections::resetHistory() {
 const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(
-            ctx, "reflections/trace.comp",
-            bindings({{1, kSampled}, {2, kSampled}, {3, kSampled}, {4, kBuffer}, {5, kStorage}, {6, kSampled}}), 0,
-            "reflections.trace", {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
+        p = gpu::createComputePipeline(ctx, "reflections/trace.comp", bindings("sssbis"), 0, "reflections.trace",
+                                       {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
 
 const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp",
-                                       bindings({{1, kSampled},
-                                                 {2, kSampled},
-                                                 {3, kSampled},
-                                                 {4, kBuffer},
-                                                 {5, kSampled},
-                                                 {6, kSampled},
-                                                 {7, kSampled},
-                                                 {8, kSampled},
-                                                 {9, kStorage},
-                                                 {10, kStorage},
-                                                 {11, kBuffer},
-                                                 {12, kSampled}}),
-                                       0, "reflections.resolve", {uint32_t(resolution), uint32_t(glossy)});
+        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", bindings("sssbssssiibs"), 0,
+                                       "reflections.resolve", {uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
 
 const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal) {
     std::optional<gpu::Pipeline>& p = composites.at(size_t(view) * 2 + (temporal ? 1 : 0));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/composite.comp",
-                                       bindings({{1, kSampled},
-                                                 {2, kSampled},
-                                                 {3, kSampled},
-                                                 {4, kBuffer},
-                                                 {5, kSampled},
-                                                 {6, kSampled},
-                                                 {7, kSampled},
-                                                 {8, kSampled},
-                                                 {9, kSampled},
-                                                 {10, kSampled},
-                                                 {11, kStorage},
-                                                 {12, kStorage},
-                                                 {13, kSampled}}),
-                                       0, "reflections.composite", {uint32_t(view), temporal ? 1u : 0u});
+        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", bindings("sssbssssssiis"), 0,
+                                       "reflections.composite", {uint32_t(view), temporal ? 1u : 0u});
     return *p;
 }
 
-ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& in,
-                                         const ReflectionSettings& s, bool hizView) {
+ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& in, const ReflectionSettings& s,
+                                         bool hizView) {
     Impl& m = *impl_;
     uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
     uint32_t levels = pyramidLevels(w, h);

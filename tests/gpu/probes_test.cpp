@@ -231,16 +231,7 @@ struct Composed {
 
 }  // namespace
 
-class ProbesGpu : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
-    static void TearDownTestSuite() {
-        delete ctx_;
-        ctx_ = nullptr;
-    }
-    static gpu::Context* ctx_;
-};
-gpu::Context* ProbesGpu::ctx_ = nullptr;
+class ProbesGpu : public render::test::SharedContextTest<ProbesGpu> {};
 
 // 1. A probe's face, baked with one bounce (reflective surfaces get the sky's specular ambient
 // from probes.capture_bounce), equals the renderer's own frame at probes::faceCamera (render.

@@ -101,16 +101,7 @@ fs::path assetPath(const std::string& rel) {
 
 }  // namespace
 
-class ReflectionsGpu : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
-    static void TearDownTestSuite() {
-        delete ctx_;
-        ctx_ = nullptr;
-    }
-    static gpu::Context* ctx_;
-};
-gpu::Context* ReflectionsGpu::ctx_ = nullptr;
+class ReflectionsGpu : public render::test::SharedContextTest<ReflectionsGpu> {};
 
 TEST_F(ReflectionsGpu, HiZEqualsCpuMinMaxAtOddAndEvenSizes) {
     Scene scene = loadScene(assetPath("assets/scenes/gallery.gltf"));

@@ -9,11 +9,26 @@
 #include "speculum/render/renderer.hpp"
 #include "speculum/scene.hpp"
 
+#include <gtest/gtest.h>
+
 #include <map>
 #include <string>
 #include <vector>
 
 namespace speculum::render::test {
+
+// A test suite sharing one Vulkan context (device creation and validation layers cost about a
+// second each): `class MySuite : public SharedContextTest<MySuite> {};`, then ctx_ in the tests.
+template <typename Suite>
+class SharedContextTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
+    static void TearDownTestSuite() {
+        delete ctx_;
+        ctx_ = nullptr;
+    }
+    static inline gpu::Context* ctx_ = nullptr;
+};
 
 // A square of side 2 * half in the plane through `center` spanned by axes u and v; its front
 // face (counter-clockwise, glTF) looks along cross(u, v).

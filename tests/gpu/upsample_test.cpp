@@ -2,10 +2,11 @@
 // bilateral upsampler takes nothing from the other side, and a constant image comes back as the
 // constant. The guide is made on the CPU with the rule of shaders/reflections/guide.comp
 // (checkerboard of the closest and the farthest of each 2x2).
+#include "speculum/reflections/upsample.hpp"
+#include "render_test_support.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/gpu/fg_executor.hpp"
 #include "speculum/gpu/resources.hpp"
-#include "speculum/reflections/upsample.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +22,8 @@ namespace {
 constexpr uint32_t W = 64, H = 40, LW = W / 2, LH = H / 2;
 
 struct Images {
-    std::vector<float> depth;      // W x H
-    std::vector<glm::vec4> lowA;   // LW x LH
+    std::vector<float> depth;     // W x H
+    std::vector<glm::vec4> lowA;  // LW x LH
     std::vector<glm::vec4> lowB;
     std::vector<glm::vec4> guide;
 };
@@ -77,9 +78,9 @@ std::array<std::vector<float>, 2> upsample(gpu::Context& ctx, const Images& im) 
     FrameGraph fg(FrameGraphConfig{W, H});
     auto import = [&](const gpu::Image& img, const char* name) {
         const gpu::ImageDesc& d = img.desc();
-        return fg.importTexture(name, {.width = d.width, .height = d.height, .format = d.format},
-                                {img.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, d.usage});
+        return fg.importTexture(
+            name, {.width = d.width, .height = d.height, .format = d.format},
+            {img.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, d.usage});
     };
     reflections::UpsampleInputs in;
     in.depth = import(depth, "test.depth");
@@ -108,9 +109,11 @@ std::array<std::vector<float>, 2> upsample(gpu::Context& ctx, const Images& im) 
             VkBufferImageCopy c{};
             c.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             c.imageExtent = {W, H, 1};
-            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.a), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.get(), 1, &c);
+            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.a), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.get(), 1,
+                                   &c);
             c.bufferOffset = VkDeviceSize(W) * H * 8;
-            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.b), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.get(), 1, &c);
+            vkCmdCopyImageToBuffer(pc.cmd(), pc.image(d.b), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.get(), 1,
+                                   &c);
         });
     gpu::VulkanResourceAllocator allocator(ctx.physicalDevice(), ctx.device());
     gpu::VulkanFrameGraphExecutor executor(ctx.instance(), ctx.physicalDevice(), ctx.device(), ctx.timestampPeriodNs());
@@ -143,16 +146,7 @@ Images edgeImages(uint32_t edgeX, std::function<bool(uint32_t, uint32_t)> near) 
 
 }  // namespace
 
-class UpsampleGpu : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() { ctx_ = new gpu::Context(gpu::ContextOptions{}); }
-    static void TearDownTestSuite() {
-        delete ctx_;
-        ctx_ = nullptr;
-    }
-    static gpu::Context* ctx_;
-};
-gpu::Context* UpsampleGpu::ctx_ = nullptr;
+class UpsampleGpu : public render::test::SharedContextTest<UpsampleGpu> {};
 
 // Two depths, two colours: every full pixel gets exactly its own side's colour, at vertical,
 // horizontal and diagonal edges that cut through 2x2 blocks (odd positions).
