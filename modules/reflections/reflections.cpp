@@ -146,7 +146,14 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     // un-accumulated image, tests/stability converge). Three frames hold three bounces.
     framesSinceReset = history.valid() ? framesSinceReset + 1 : 0;
     bool bouncesFilled = !s.multiBounce || framesSinceReset >= kBounceFillFrames;
-    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled ? 1u : 0u;
+    // A camera cut: hosts call resetHistory(); a turn of more than 45 degrees in one frame is
+    // taken as one too (its history would be rejected almost everywhere anyway, and what passes
+    // the checks by chance is another view's).
+    const glm::vec3 forward = -glm::vec3(glm::transpose(cam.view)[2]);
+    const glm::vec3 previousForward = -glm::vec3(glm::transpose(in.frame.previousCamera.view)[2]);
+    bool cut = glm::dot(forward, previousForward) < std::cos(glm::radians(45.0f));
+    u.temporalValid =
+        history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled && !cut ? 1u : 0u;
     u.traceMode = uint32_t(s.trace);
     u.coverageMode = uint32_t(s.coverage);
     u.historyValid = history.valid() ? 1u : 0u;
