@@ -10,9 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 using namespace speculum;
 namespace fs = std::filesystem;
@@ -29,7 +32,8 @@ struct Readback {
 // Renders one frame with the module and copies every Hi-Z level and the hit image out.
 Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, reflections::Reflections& module,
                           const reflections::ReflectionSettings& s, const render::CameraState& camera,
-                          const std::vector<std::string>& aovs) {
+                          const std::vector<std::string>& aovs,
+                          const std::optional<render::CameraState>& previous = std::nullopt) {
     uint32_t w = camera.width, h = camera.height, levels = reflections::pyramidLevels(w, h);
     std::vector<gpu::Buffer> hizBuffers;
     for (uint32_t l = 0; l < levels; ++l)
@@ -39,7 +43,7 @@ Readback renderWithModule(const gpu::Context& ctx, render::Renderer& renderer, r
     const bool half = s.resolution == reflections::Resolution::Half;
     const uint32_t hw = half ? (w + 1) / 2 : w, hh = half ? (h + 1) / 2 : h;
     gpu::Buffer guideBuffer(ctx, VkDeviceSize(hw) * hh * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "test.guide");
-    render::FrameInputs frame{camera, camera};
+    render::FrameInputs frame{camera, previous.value_or(camera)};
     app::LitHook hook;
     hook.modules = {reflections::moduleInfo()};
     hook.moduleSpecular = true;
@@ -338,5 +342,46 @@ TEST_F(ReflectionsGpu, GuidePicksByItsRuleAtOddSizes) {
         }
     EXPECT_EQ(wrong, 0);
     EXPECT_GT(reflectiveHalf, int(hw * hh) / 4);  // the scene is mostly reflective
+    EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
+}
+
+// Temporal accumulation starts from scratch when a setting changes (issue 13: "reset on settings
+// changes"). Two modules run in lockstep on a camera that slides a little every frame, one with
+// temporal accumulation and one without; both feed their own un-accumulated reflection to the
+// bounce loop, so that the accumulating one's raw reflection is the other's output. While
+// accumulating the two outputs differ; on the frame where a setting changes (cone samples 8 ->
+// 4 in both) the accumulating module must output exactly this frame's reflection.
+TEST_F(ReflectionsGpu, TemporalHistoryResetsWhenASettingChanges) {
+    Scene scene = loadScene(assetPath("assets/scenes/gallery.gltf"));
+    render::Renderer renderer(*ctx_, scene);
+    reflections::Reflections accumulating(*ctx_, renderer), plain(*ctx_, renderer);
+    reflections::ReflectionSettings on, off;
+    on.temporal = true;
+    const uint32_t w = 160, h = 90;
+    const Camera& named = *scene.findCamera("main");
+    auto cameraAt = [&](int frame) {
+        Camera c = named;
+        c.world = glm::translate(glm::mat4(1.0f), glm::vec3(0.03f * float(frame), 0.0f, 0.0f)) * c.world;
+        return render::makeCamera(c, w, h);
+    };
+    auto reflection = [](const Readback& r) { return r.result.aovs.at("reflection").rgba; };
+    auto maxDiff = [](const std::vector<float>& a, const std::vector<float>& b) {
+        float m = 0.0f;
+        for (size_t i = 0; i < a.size(); i += 4)
+            for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(a[i + c] - b[i + c]));
+        return m;
+    };
+    std::optional<render::CameraState> previous;
+    float accumulatedDiff = 0.0f;
+    for (int frame = 0; frame < 8; ++frame) {
+        render::CameraState cam = cameraAt(frame);
+        if (frame == 7) on.coneSamples = off.coneSamples = 4;  // the change
+        auto a = reflection(renderWithModule(*ctx_, renderer, accumulating, on, cam, {"reflection"}, previous));
+        auto b = reflection(renderWithModule(*ctx_, renderer, plain, off, cam, {"reflection"}, previous));
+        if (frame == 6) accumulatedDiff = maxDiff(a, b);
+        if (frame == 7) EXPECT_EQ(maxDiff(a, b), 0.0f) << "the history survived a settings change";
+        previous = cam;
+    }
+    EXPECT_GT(accumulatedDiff, 0.01f) << "no accumulation before the change: the test would prove nothing";
     EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
 }
