@@ -85,9 +85,11 @@ app::ModuleInfo moduleInfo() {
             {{"reflection", "pre-Fresnel reflection radiance (rgb), 0 where nothing reflects"},
              {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1); a: reflected "
                         "distance (m, 0 unknown, 65504 the sky)"},
-             {"iterations", "screen-space trace iterations per pixel"},
+             {"iterations", "screen-space trace iterations per pixel (at the trace's resolution: half size with "
+                            "reflections.resolution=half)"},
              {"hiz", "closest and farthest depth of the pixel's cell at reflections.debug_hiz_mip"},
-             {"hit", "trace output: hit pixel x, y, hit depth or a negative miss code, iterations"}},
+             {"hit", "trace output: hit pixel x, y, hit depth or a negative miss code, iterations (at the "
+                     "trace's resolution)"}},
             "reflections.debug_view",
             "reflections.enabled"};
 }
