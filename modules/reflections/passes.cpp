@@ -266,7 +266,9 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             data.raw = b.read(raw.valid() ? raw : out.reflection, TextureUsage::Sampled);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
-            data.method = b.read(out.method, TextureUsage::Sampled);
+            // Only the method debug view reads the weights: otherwise the reflection is bound in
+            // their place, so that the graph can cull the half-resolution method upsampling.
+            data.method = b.read(view == DebugView::Method ? out.method : out.reflection, TextureUsage::Sampled);
             data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
                                TextureUsage::StorageWrite);
             // A debug view replaces the image; the history still gets the real one, or the

@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Cost of half against full resolution (issue 13), in one run, alternating the configurations
-so that machine noise falls on both: per configuration the median over runs of the sum of
-trace + resolve (+ guide + upsample at half) and of the whole module and frame.
+so that machine noise falls on all of them: per configuration the median over runs of the sum of
+trace + resolve (+ guide + upsample at half), of the whole module and of the frame, and the
+median of every reflections.* pass (pyramid levels summed per pyramid).
 
     half_cost.py CAPTURE SCENE [--camera main] [--size 960x540] [--runs 3] [--frames 5]
-                 [--config NAME=KEY=VALUE,KEY=VALUE ...]
+                 [--config NAME=KEY=VALUE,KEY=VALUE ...] [--config NAME=@SETTINGS.json]
 
-Prints a markdown table. Timing only: never an assertion (the machines are noisy)."""
+Prints markdown tables. Timing only: never an assertion (the machines are noisy)."""
 import argparse, json, statistics, subprocess, sys, tempfile
 from pathlib import Path
 
@@ -17,10 +18,14 @@ def run(capture, scene, camera, size, frames, sets, out):
     cmd = [capture, "--scene", scene, "--camera", camera, "--size", size, "--warmup", "3",
            "--frames", str(frames), "--out", str(out)]
     for s in sets:
-        cmd += ["--set", s]
+        cmd += ["--settings", s[1:]] if s.startswith("@") else ["--set", s]
     subprocess.run(cmd, check=True, capture_output=True)
     t = json.loads((out / "timings.json").read_text())
-    passes = {p["name"]: p["median_ms"] for p in t["passes"]}
+    passes = {}
+    for p in t["passes"]:
+        # Pyramid levels (reflections.hiz.3) are summed under their pyramid's name.
+        name = p["name"].rsplit(".", 1)[0] if p["name"].rsplit(".", 1)[-1].isdigit() else p["name"]
+        passes[name] = passes.get(name, 0.0) + p["median_ms"]
     core = sum(ms for n, ms in passes.items() if n in CORE)
     module = sum(ms for n, ms in passes.items() if n.startswith("reflections."))
     return core, module, t["frame"]["median_ms"], passes
@@ -52,9 +57,15 @@ def main():
     if "full" in results and "half" in results:
         f = statistics.median(r[0] for r in results["full"]); h = statistics.median(r[0] for r in results["half"])
         print(f"\nhalf is {f / h:.2f}x cheaper than full on trace + resolve (+ guide + upsample)")
-    last = {n: rs[-1][3] for n, rs in results.items()}
-    print("\nper pass (last run, ms): " + json.dumps({n: {k: round(v, 2) for k, v in p.items() if k.startswith("reflections.")
-                                                       and not k[-1].isdigit()} for n, p in last.items()}))
+    names = sorted({k for rs in results.values() for r in rs for k in r[3] if k.startswith("reflections.")})
+    print("\n| pass (median ms) | " + " | ".join(results) + " |")
+    print("|---|" + "---|" * len(results))
+    for k in names:
+        cells = []
+        for n, rs in results.items():
+            v = [r[3][k] for r in rs if k in r[3]]
+            cells.append(f"{statistics.median(v):.1f}" if v else "-")
+        print(f"| {k} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
