@@ -157,12 +157,8 @@ TextureHandle Reflections::Impl::addGuide(FrameGraph& g, const ReflectionInputs&
             data.guide = b.write(b.create("reflections.guide", half), TextureUsage::StorageWrite);
         },
         [this](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.hiz), nearest)
-                .sampled(2, pc.view(data.normal), nearest)
-                .sampled(3, pc.view(data.emissive), nearest)
-                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .storage(5, pc.view(data.guide));
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.storage(5, pc.view(data.guide));
             dispatch(pc, guide, w, pc.extent(data.guide));
         });
     return d.guide;
@@ -187,13 +183,8 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
             data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
         [this, mode = s.trace, res, glossy = s.glossy](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.hiz), nearest)
-                .sampled(2, pc.view(data.normal), nearest)
-                .sampled(3, pc.view(data.emissive), nearest)
-                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .storage(5, pc.view(data.hit))
-                .sampled(6, pc.view(data.guide), nearest);
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.storage(5, pc.view(data.hit)).sampled(6, pc.view(data.guide), nearest);
             dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
         });
     return d.hit;
@@ -228,12 +219,8 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
         [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy](const Data& data,
                                                                                        PassContext& pc) {
             const render::Environment& env = renderer.environment();
-            gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.hiz), nearest)
-                .sampled(2, pc.view(data.normal), nearest)
-                .sampled(3, pc.view(data.emissive), nearest)
-                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .sampled(5, pc.view(data.hit), nearest)
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled(5, pc.view(data.hit), nearest)
                 .sampled(6, pc.view(data.color), trilinear)
                 .sampled(7, pc.view(data.guide), nearest)
                 .sampled(8, env.specular().view(), env.sampler())
@@ -323,12 +310,8 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
             data.dstNormal = b.write(historyNormal.current, TextureUsage::StorageWrite);
         },
         [this](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.hiz), nearest)
-                .sampled(2, pc.view(data.normal), nearest)
-                .sampled(3, pc.view(data.emissive), nearest)
-                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .sampled(5, pc.view(data.motion), nearest)
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled(5, pc.view(data.motion), nearest)
                 .sampled(6, pc.view(data.reflection), nearest)
                 .sampled(7, pc.view(data.method), nearest)
                 .sampled(8, pc.view(data.history), nearest)

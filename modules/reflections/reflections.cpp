@@ -152,8 +152,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     const glm::vec3 forward = -glm::vec3(glm::transpose(cam.view)[2]);
     const glm::vec3 previousForward = -glm::vec3(glm::transpose(in.frame.previousCamera.view)[2]);
     bool cut = glm::dot(forward, previousForward) < std::cos(glm::radians(45.0f));
-    u.temporalValid =
-        history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled && !cut ? 1u : 0u;
+    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled && !cut ? 1u : 0u;
     u.traceMode = uint32_t(s.trace);
     u.coverageMode = uint32_t(s.coverage);
     u.historyValid = history.valid() ? 1u : 0u;
@@ -183,6 +182,16 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
 gpu::DescriptorWriter Reflections::Impl::writer() const {
     gpu::DescriptorWriter w;
     w.buffer(0, kFrameBuffer, uniforms.get());
+    return w;
+}
+
+gpu::DescriptorWriter Reflections::Impl::surfaceWriter(PassContext& pc, TextureHandle hizImage, TextureHandle normal,
+                                                       TextureHandle emissive) const {
+    gpu::DescriptorWriter w = writer();
+    w.sampled(1, pc.view(hizImage), nearest)
+        .sampled(2, pc.view(normal), nearest)
+        .sampled(3, pc.view(emissive), nearest)
+        .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get());
     return w;
 }
 
