@@ -48,7 +48,7 @@ struct ReflectionHistory {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, guide, temporal;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, temporal;
     BilateralUpsampler upsampler;
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
@@ -90,11 +90,12 @@ struct Reflections::Impl {
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels);
-    // Half resolution: which full pixel each half pixel traces (reflections/guide.comp).
-    TextureHandle addGuide(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz);
-    // `guide` invalid: full resolution.
-    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle guide,
-                           const ReflectionSettings& s);
+    // reflections.trace; at half resolution it also writes the guide (which full pixel each half
+    // pixel traces, shaders/reflections/guide.glsl) and the hit image is half-size.
+    struct Traced {
+        TextureHandle hit, guide;  // guide: half resolution only
+    };
+    Traced addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
                     ReflectionOutputs& out);
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated

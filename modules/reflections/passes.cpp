@@ -143,51 +143,33 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     return pyramid;
 }
 
-TextureHandle Reflections::Impl::addGuide(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid) {
-    struct Data {
-        TextureHandle hiz, normal, emissive, guide;
-    };
-    const auto& d = g.addPass<Data>(
-        "reflections.guide", PassType::Compute,
-        [&](PassBuilder& b, Data& data) {
-            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
-            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
-            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            TextureDesc half{.relativeScale = 0.5f, .format = kGuideFormat, .relativeTo = in.gbuffer.depth};
-            data.guide = b.write(b.create("reflections.guide", half), TextureUsage::StorageWrite);
-        },
-        [this](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.storage(5, pc.view(data.guide));
-            dispatch(pc, guide, w, pc.extent(data.guide));
-        });
-    return d.guide;
-}
-
-TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                          TextureHandle guideImage, const ReflectionSettings& s) {
+Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in,
+                                                      TextureHandle hizPyramid, const ReflectionSettings& s) {
     struct Data {
         TextureHandle hiz, normal, emissive, guide, hit;
     };
-    Resolution res = guideImage.valid() ? Resolution::Half : Resolution::Full;
+    const Resolution res = s.resolution;
     const auto& d = g.addPass<Data>(
         "reflections.trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            // Full resolution binds the normals in the guide's place (unread).
-            data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
             TextureDesc desc{.format = kHitFormat};
-            if (guideImage.valid()) desc.relativeTo = guideImage;
+            if (res == Resolution::Half) {
+                TextureDesc half{.relativeScale = 0.5f, .format = kGuideFormat, .relativeTo = in.gbuffer.depth};
+                data.guide = b.write(b.create("reflections.guide", half), TextureUsage::StorageWrite);
+                desc.relativeTo = data.guide;
+            }
             data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
         [this, mode = s.trace, res, glossy = s.glossy](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.storage(5, pc.view(data.hit)).sampled(6, pc.view(data.guide), nearest);
+            // Full resolution binds the hit image in the guide's place (not written).
+            w.storage(5, pc.view(data.hit)).storage(6, pc.view(data.guide.valid() ? data.guide : data.hit));
             dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
         });
-    return d.hit;
+    return {d.hit, d.guide};
 }
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,

@@ -62,7 +62,6 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", bindings("sis"), 0,
                                            "reflections.color_pyramid")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings("si"), 0, "reflections.hiz_view")),
-      guide(gpu::createComputePipeline(c, "reflections/guide.comp", bindings("sssbi"), 0, "reflections.guide")),
       temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", bindings("sssbssssssii"), 0,
                                           "reflections.temporal")),
       upsampler(c),
@@ -215,7 +214,7 @@ void Reflections::resetHistory() {
 const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/trace.comp", bindings("sssbis"), 0, "reflections.trace",
+        p = gpu::createComputePipeline(ctx, "reflections/trace.comp", bindings("sssbii"), 0, "reflections.trace",
                                        {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
@@ -248,9 +247,9 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
-    TextureHandle guide;
-    if (s.resolution == Resolution::Half) out.guide = guide = m.addGuide(graph, in, out.hiz);
-    out.hit = m.addTrace(graph, in, out.hiz, guide, s);
+    Impl::Traced traced = m.addTrace(graph, in, out.hiz, s);
+    out.hit = traced.hit;
+    TextureHandle guide = out.guide = traced.guide;
     m.addResolve(graph, in, guide, s.glossy, out);
     // The temporal pass reads the reflected distance (method.a) at the trace's resolution.
     TextureHandle traceMethod = out.method;

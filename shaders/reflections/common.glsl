@@ -68,7 +68,7 @@ float distanceFadeEnd() {
     return rf.distanceFadeEnd > rf.distanceFadeStart ? rf.distanceFadeEnd : rf.distanceFadeStart;
 }
 
-// The full-resolution pixel a half-resolution pixel traces, from its guide (reflections/guide.comp).
+// The full-resolution pixel a half-resolution pixel traces, from its guide (reflections/guide.glsl).
 ivec2 guidePixel(ivec2 halfPixel, vec4 guide) {
     int i = (int(abs(guide.w)) - 1) & 3;
     return min(halfPixel * 2 + ivec2(i & 1, i >> 1), ivec2(rf.size.xy) - 1);

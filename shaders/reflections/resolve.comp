@@ -25,8 +25,8 @@ layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
 layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
-// reflections.resolution (1: half): as in trace.comp, the guide's full pixel, written at the
-// invocation's half-resolution position.
+// reflections.resolution (1: half): the full pixel the trace chose (the guide,
+// reflections/guide.glsl), written at the invocation's half-resolution position.
 layout(constant_id = 0) const uint kHalf = 0u;
 // reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
 // samples instead of a cone.

@@ -5,7 +5,7 @@
 // nothing reads them) to full resolution, guided by full-resolution depth and normals.
 // Each full pixel weighs the four low-resolution samples around it by their bilinear weight times
 // three edge-stopping terms, computed against the sample's own full-resolution pixel (the guide
-// says which one it traced, reflections/guide.comp):
+// says which one it traced, reflections/guide.glsl):
 //   plane:    the sample's distance from this pixel's tangent plane, over this pixel's view
 //             distance, weighed by max(0, 1 - 50 x): nothing beyond 2% (compact, so that a depth
 //             edge leaks nothing at all); near zero on slanted and gently curved surfaces, where
@@ -14,10 +14,11 @@
 //   material: a non-reflective sample (its reflection is 0) gets no weight, and roughness
 //             differences above 0.1 fade the weight (a glossy panel next to a mirror).
 // When all four are rejected (thin features, the screen edge), the best-agreeing sample (ranked
-// with exp(-100 x) for the plane term, which never reaches 0) is taken whole: a pixel is never a blend across an edge and never black for lack of weight.
+// with 1 / (1 + 100 x) for the plane term, which never reaches 0) is taken
+// whole: a pixel is never a blend across an edge and never black for lack of weight.
 #include "common/camera.glsl"
 #include "reflections/upsample.h"
-#include "reflections/guide_pack.glsl"
+#include "reflections/guide.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -58,10 +59,17 @@ void main() {
         vec4 guide = texelFetch(guideTex, s, 0);
         GuideSample g = unpackGuide(guide.w);
         float plane = abs(dot(n, guide.xyz - p)) * invDist;
-        float others = pow(max(dot(n, g.normal), 0.0), 32.0) *
-                       clamp(1.0 - (abs(g.roughness - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
+        // dot^32 by five squarings, not pow() (a log and an exp per lane on a CPU driver).
+        float c = max(dot(n, g.normal), 0.0);
+        c *= c;
+        c *= c;
+        c *= c;
+        c *= c;
+        c *= c;
+        float others = c * clamp(1.0 - (abs(g.roughness - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
                        (g.reflective ? 1.0 : 0.0);
-        float agree = exp(-plane * 100.0) * others;
+        // The fallback's ranking only needs an order that never reaches 0: 1 / (1 + 100 x).
+        float agree = others / (1.0 + plane * 100.0);
         vec2 b = mix(1.0 - f, f, vec2(o));
         float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;
         sum += w * texelFetch(lowTex, s, 0);

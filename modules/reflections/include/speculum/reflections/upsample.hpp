@@ -17,7 +17,7 @@ struct UpsampleInputs {
     TextureHandle depth;   // full: reversed-Z depth (D32 or R32), read with texelFetch
     TextureHandle normal;  // full: xyz normal, w roughness
     // low (RGBA32F): xyz the world position of the full pixel it traced, w +-(1 + its index in
-    // its 2x2, x + 2 y), positive when it reflects (shaders/reflections/guide.comp)
+    // its 2x2, x + 2 y), positive when it reflects (shaders/reflections/guide.glsl)
     TextureHandle guide;
     TextureHandle low;                 // RGBA16F, the guide's size
     glm::mat4 invViewProj;             // of the frame the depth belongs to
