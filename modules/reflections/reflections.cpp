@@ -20,12 +20,15 @@ constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 // shaders/reflections/common.glsl (a lavapipe leak, issue 15).
 constexpr VkDescriptorType kFrameBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+// The same buffer's matrices as a uniform block (shaders/reflections/frame.h says why).
+constexpr VkDescriptorType kMatrices = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+constexpr uint32_t kMatricesBinding = 15;
 
 // Binding 0 is the frame's uniforms in every pipeline; then bindings 1, 2, ... as the layout
 // string says, one letter per binding in the shader's order: s a sampled image, i a storage
 // image, b a storage buffer, - unused. "sssbi": sampled 1-3, the material table 4, storage 5.
 std::vector<gpu::Binding> bindings(std::string_view layout) {
-    std::vector<gpu::Binding> b{{0, kFrameBuffer, kCompute}};
+    std::vector<gpu::Binding> b{{0, kFrameBuffer, kCompute}, {kMatricesBinding, kMatrices, kCompute}};
     for (uint32_t i = 0; i < layout.size(); ++i) {
         char c = layout[i];
         if (c == '-') continue;
@@ -67,7 +70,8 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       upsampler(c),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
-      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "reflections.frame") {
+      uniforms(c, sizeof(FrameUniforms), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true,
+               "reflections.frame") {
     std::vector<glm::vec4> table = materialTable(r.scene());
     materialCount = uint32_t(table.size());
     materials = gpu::uploadBuffer(c, std::as_bytes(std::span(table)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -180,7 +184,7 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
 
 gpu::DescriptorWriter Reflections::Impl::writer() const {
     gpu::DescriptorWriter w;
-    w.buffer(0, kFrameBuffer, uniforms.get());
+    w.buffer(0, kFrameBuffer, uniforms.get()).buffer(kMatricesBinding, kMatrices, uniforms.get());
     return w;
 }
 

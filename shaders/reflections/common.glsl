@@ -30,16 +30,16 @@ const uint kModeScreenSpace = 1u;
 
 // Depth 0 is infinitely far: distances are capped where float still orders them.
 float linearDepth(float d) {
-    return rf.znear / max(d, 1e-9);
+    return rfm.znear / max(d, 1e-9);
 }
 
 vec3 worldAt(vec2 pixel, float depth) {
-    return worldFromDepth(pixel * rf.size.zw, depth, rf.invViewProj);
+    return worldFromDepth(pixel * rf.size.zw, depth, rfm.invViewProj);
 }
 
 // Screen-space point (pixels, depth) of a world position in front of the near plane.
 vec3 projectToScreen(vec3 world) {
-    vec4 clip = rf.viewProj * vec4(world, 1.0);
+    vec4 clip = rfm.viewProj * vec4(world, 1.0);
     vec3 ndc = clip.xyz / clip.w;
     return vec3(ndcToUV(ndc.xy) * rf.size.xy, ndc.z);
 }

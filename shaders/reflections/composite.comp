@@ -72,7 +72,7 @@ void main() {
     if (reflective) {
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec3 p = worldAt(vec2(pixel) + 0.5, depth);
-        vec3 v = normalize(rf.eye - p);
+        vec3 v = normalize(rfm.eye - p);
         float NoV = clamp(dot(normalize(normalRough.xyz), v), 0.0, 1.0);
         vec2 dfg = textureLod(dfgTex, vec2(NoV, m.roughness), 0.0).rg;
         vec3 f0 = specularF0(albedo.rgb, albedo.a);

@@ -72,6 +72,21 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
 
 #ifdef __cplusplus
 }  // namespace speculum::reflections::shader
+#else
+// The same buffer's first rows again, as a uniform block (`rfm`, binding 15): the matrices, the
+// eye and znear, which the shaders use in arithmetic only, never alone in a branch condition.
+// Lavapipe (Mesa 22.3) reads a uniform block's values as constants; a storage buffer's values it
+// loads per use, and for these matrices that doubled the module's time at 960x540 (576 ms against
+// 362 ms, modules/reflections/MEASUREMENTS.md). Its leak (issue 15) comes from uniform values
+// that steer branches, which stay in the storage buffer `rf`: hardening.memory_flat guards it.
+layout(set = 0, binding = 15, std140) uniform ReflectionMatrices {
+    mat4 viewProj;
+    mat4 invViewProj;
+    mat4 prevViewProj;
+    mat4 view;
+    vec3 eye;
+    float znear;
+} rfm;
 #endif
 
 #endif

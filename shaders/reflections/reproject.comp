@@ -29,11 +29,11 @@ void main() {
             // Motion vectors carry object motion too; the expected previous depth is the
             // camera's (static geometry), which is what the depth test below guards.
             prevUV = uv - texelFetch(motionTex, pixel, 0).rg;
-            vec4 prevClip = rf.prevViewProj * vec4(worldAt(vec2(pixel) + 0.5, depth), 1.0);
+            vec4 prevClip = rfm.prevViewProj * vec4(worldAt(vec2(pixel) + 0.5, depth), 1.0);
             expectedDepth = prevClip.z / prevClip.w;
         } else {
-            vec3 dir = viewRayDirection(uv, rf.invViewProj);
-            vec4 prevClip = rf.prevViewProj * vec4(dir, 0.0);
+            vec3 dir = viewRayDirection(uv, rfm.invViewProj);
+            vec4 prevClip = rfm.prevViewProj * vec4(dir, 0.0);
             prevUV = prevClip.w > 0.0 ? ndcToUV(prevClip.xy / prevClip.w) : vec2(-1.0);
             expectedDepth = 0.0;
         }

@@ -121,7 +121,7 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
         PixelMaterial qm = pixelMaterial(texelFetch(emissiveTex, q, 0).a, qNormalRough.w);
         vec3 qn = normalize(qNormalRough.xyz);
         if (!(qDepth > 0.0 && qm.reflective) || dot(qn, n) < 0.9 || abs(qm.roughness - roughness) > 0.1) continue;
-        vec3 qv = normalize(worldAt(vec2(q) + 0.5, qDepth) - rf.eye);
+        vec3 qv = normalize(worldAt(vec2(q) + 0.5, qDepth) - rfm.eye);
         vec3 ql = stochasticDirection(q, qv, qn, qm.roughness);
         float qpdf = visibleNormalPdf(qn, -qv, ql, roughnessToAlpha(qm.roughness));
         vec4 hit = texelFetch(hitTex, s, 0);
@@ -158,7 +158,7 @@ void main() {
     if (depth > 0.0 && m.reflective) {
         vec2 px = vec2(pixel) + 0.5;
         vec3 p = worldAt(px, depth);
-        vec3 v = normalize(p - rf.eye);
+        vec3 v = normalize(p - rfm.eye);
         vec3 n = normalize(normalRough.xyz);
         vec3 r = reflect(v, n);
         vec3 screen = vec3(0.0);

@@ -81,7 +81,7 @@ void main() {
         vec3 p = worldAt(vec2(pixel) + 0.5, depth);
         // The surface's previous position, checked against the previous depth as reproject.comp does.
         vec2 prevS = uv - texelFetch(motionTex, pixel, 0).rg;
-        vec4 prevClip = rf.prevViewProj * vec4(p, 1.0);
+        vec4 prevClip = rfm.prevViewProj * vec4(p, 1.0);
         float expected = linearDepth(prevClip.z / prevClip.w);
         ivec2 prevSPixel = ivec2(floor(prevS * rf.size.xy));
         bool validS = insideUV(prevS) && abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
@@ -92,9 +92,9 @@ void main() {
         vec2 prevV = vec2(-1.0);
         ivec2 prevVPixel = ivec2(0);
         if (dist > 0.0) {
-            vec3 viewDir = normalize(p - rf.eye);
+            vec3 viewDir = normalize(p - rfm.eye);
             vec4 virt = dist >= kSkyDistance ? vec4(viewDir, 0.0) : vec4(p + viewDir * dist, 1.0);
-            vec4 clip = rf.prevViewProj * virt;
+            vec4 clip = rfm.prevViewProj * virt;
             prevV = clip.w > 0.0 ? ndcToUV(clip.xy / clip.w) : vec2(-1.0);
             prevVPixel = ivec2(floor(prevV * rf.size.xy));
             validV = insideUV(prevV) && sameMaterialThere(prevVPixel, n, m.roughness, 0.95);

@@ -48,10 +48,10 @@ struct ScreenRay {
 // The mirror ray r from world point p, seen at pixel centre px with depth `depth`.
 ScreenRay screenRay(vec2 px, float depth, vec3 p, vec3 r) {
     float z = linearDepth(depth);
-    float away = -(mat3(rf.view) * r).z;
+    float away = -(mat3(rfm.view) * r).z;
     // Rays toward the camera end just before the near plane; others far enough that their end
     // point is the vanishing point to well under a pixel.
-    float len = away < -1e-6 ? max((z - 1.5 * rf.znear) / -away, 0.0) : 1000.0 * z + 1000.0;
+    float len = away < -1e-6 ? max((z - 1.5 * rfm.znear) / -away, 0.0) : 1000.0 * z + 1000.0;
     ScreenRay ray;
     ray.pixel = ivec2(floor(px));
     ray.o = vec3(px, depth);
@@ -353,7 +353,7 @@ void main() {
     PixelMaterial m = pixelMaterial(flags, normalRough.w);
     vec2 px = vec2(pixel) + 0.5;
     vec3 p = worldAt(px, depth);
-    vec3 v = normalize(p - rf.eye);
+    vec3 v = normalize(p - rfm.eye);
     vec3 r = kStochastic != 0u ? stochasticDirection(pixel, v, normalize(normalRough.xyz), m.roughness)
                                : reflect(v, normalize(normalRough.xyz));
     // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).

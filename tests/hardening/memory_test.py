@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""memory_test.py CAPTURE SCENE OUT [--size WxH] [--short N] [--long N] [--limit-mb M] [-- extra flags]
+"""memory_test.py CAPTURE SCENE OUT [--size WxH] [--short N] [--long N] [--limit-mb M] [capture flags...]
 
 Issue 15: memory is flat over long runs. Renders SHORT and then LONG frames of SCENE with every
 module on (the defaults), each in its own process, and compares their peak resident set sizes
@@ -30,7 +30,9 @@ def main():
     ap.add_argument("--long", type=int, default=300)
     ap.add_argument("--limit-mb", type=float, default=4.0)
     ap.add_argument("extra", nargs="*")
-    a = ap.parse_args()
+    # Flags for the capture (--set KEY=VALUE ...) pass through as they are.
+    a, unknown = ap.parse_known_args()
+    a.extra += unknown
     peaks = {}
     for frames in (a.short, a.long):
         cmd = [a.capture, "--scene", a.scene, "--size", a.size, "--frames", str(frames), "--warmup", "0",
