@@ -46,6 +46,10 @@ public:
     VkSemaphore acquired() const { return acquired_[frame_]; }
     VkSemaphore rendered() const { return rendered_[image_]; }
     VkExtent2D extent() const { return extent_; }
+    // For hosts that present with passes of their own (the editor draws its UI over the image).
+    VkImage image() const { return images_[image_]; }
+    VkFormat format() const { return format_; }
+    uint32_t imageCount() const { return uint32_t(images_.size()); }
 
 private:
     void create();

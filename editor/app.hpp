@@ -1,0 +1,126 @@
+// The editor's window: the document, the viewport, the ImGui panels (panels.cpp), the camera,
+// picking, the translate gizmo and the overlays (gizmo.cpp), and the --script driver.
+#pragma once
+
+#include "camera.hpp"
+#include "document.hpp"
+#include "script.hpp"
+#include "ui_layer.hpp"
+#include "viewport.hpp"
+
+#include "speculum/app/window.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace speculum::editor {
+
+struct Options {
+    std::filesystem::path scene;
+    std::filesystem::path script;
+    std::string device;
+    uint32_t width = 1280, height = 720;
+    std::string recover = "ask";  // ask, yes, no: a newer autosave found on start
+};
+
+// Runs the editor; returns the exit status.
+int run(const Options& options);
+
+// Where the viewport sits in the window, in window pixels.
+struct Rect {
+    float x = 0, y = 0, w = 1, h = 1;
+    bool contains(float px, float py) const { return px >= x && py >= y && px < x + w && py < y + h; }
+};
+
+// The translate gizmo's drag: which handle, and where it started.
+struct GizmoDrag {
+    int axis = -1;  // 0 x, 1 y, 2 z, 3 the xz plane; -1 none
+    glm::vec3 start{0.0f};
+    glm::vec3 current{0.0f};
+    float mouseX = 0, mouseY = 0;
+};
+
+class EditorApp {
+public:
+    EditorApp(const Options& options, Document document);
+    ~EditorApp();
+    // Returns the exit status.
+    int loop();
+
+    // What the UI and the script both call.
+    void addProbeAtPick();
+    void deleteSelectedProbe();
+    void save();
+    void saveAs(const std::filesystem::path& path);
+    void undo();
+    void redo();
+    void select(int node);
+    void frameSelection();
+    void setSettingValue(const std::string& name, double value);
+    void setMaterialValue(int material, const std::string& field, double value);
+    void setProbeValue(int node, const std::string& field, double value);
+
+private:
+    // panels.cpp
+    void drawMenuBar();
+    void drawOutliner();
+    void drawInspector();
+    void drawSettings();
+    void drawFrameGraph();
+    void drawRecoverPopup();
+    // gizmo.cpp
+    bool gizmoInput(const render::CameraState& cam);
+    void drawOverlays(const render::CameraState& cam);
+    bool project(const render::CameraState& cam, glm::vec3 world, float& x, float& y) const;
+    // app.cpp
+    void layout();
+    void viewportInput(float dt);
+    void shortcuts();
+    void runScriptAction(const nlohmann::json& action);
+    void renderFrame();
+    void updateTitle(double fps);
+    void bakeWithProgress();
+
+    Options options_;
+    std::unique_ptr<app::Window> window_;
+    std::unique_ptr<gpu::Context> ctx_;
+    std::unique_ptr<app::Swapchain> swapchain_;
+    Document doc_;
+    std::unique_ptr<Viewport> viewport_;
+    std::unique_ptr<UiLayer> ui_;
+    Script script_;
+    EditorCamera camera_;
+
+    Rect view_;                  // the viewport's rectangle in the window
+    float scale_ = 1.0f;         // internal resolution / viewport size
+    bool interacting_ = false;   // camera or gizmo moved this frame
+    std::chrono::steady_clock::time_point lastInteraction_{};
+    int selectedNode_ = -1;
+    std::optional<glm::ivec2> pendingPick_;
+    bool pickAddsProbe_ = false;
+    Pick pick_;                  // the last pick (the point "add probe" uses)
+    GizmoDrag drag_;
+    bool pixelInspector_ = false;
+    std::optional<glm::ivec2> inspectPixel_;
+    std::string screenshotPath_;
+    std::string status_;
+    bool quit_ = false;
+    int exitCode_ = 0;
+    std::optional<std::filesystem::path> recoverOffer_;
+    char saveAsBuffer_[512] = {};
+    std::map<std::string, double> editing_;  // settings previewed during a drag: name -> value before
+    nlohmann::json graph_;                   // the frame graph of a recent frame (refreshed each second)
+    std::vector<app::PassTime> passTimes_;
+    double gpuMs_ = 0.0, uiMs_ = 0.0;
+    std::chrono::steady_clock::time_point lastAutosave_;
+    // --script measure: frames left, and the counters.
+    int measureLeft_ = 0;
+    bool measureInteract_ = false;
+    int measureFrames_ = 0;
+    std::chrono::steady_clock::time_point measureStart_;
+};
+
+}  // namespace speculum::editor
