@@ -6,6 +6,7 @@
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
+#include "speculum/gpu/resources.hpp"
 #include "speculum/reflections/hook.hpp"
 
 #include <GLFW/glfw3.h>
@@ -333,6 +334,7 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
         }
         if (a.contains("debug_view")) setSettingValue(a["debug_view"].get<std::string>(), a.value("value", 0.0));
         if (a.contains("screenshot")) screenshotPath_ = a["screenshot"].get<std::string>();
+        if (a.contains("window_screenshot")) windowShotPath_ = a["window_screenshot"].get<std::string>();
         if (a.contains("save_as")) saveAs(a["save_as"].get<std::string>());
         if (a.contains("expect_selected")) {
             std::string want = a["expect_selected"].get<std::string>();
@@ -395,6 +397,14 @@ void EditorApp::renderFrame() {
     request.screenshot = !screenshotPath_.empty();
     Rect rect = view_;
     VkExtent2D extent = swapchain_->extent();
+    std::unique_ptr<gpu::Buffer> windowShot;
+    if (!windowShotPath_.empty() && !(swapchain_->usage() & VK_IMAGE_USAGE_TRANSFER_SRC_BIT)) {
+        std::cerr << "speculum-editor: " << windowShotPath_ << ": this window system cannot read the window back\n";
+        windowShotPath_.clear();
+    }
+    if (!windowShotPath_.empty())
+        windowShot = std::make_unique<gpu::Buffer>(*ctx_, VkDeviceSize(extent.width) * extent.height * 4,
+                                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "editor.window_shot");
     app::FrameResult result = viewport_->render(
         request,
         [&](FrameGraph& g, TextureHandle color) {
@@ -437,7 +447,26 @@ void EditorApp::renderFrame() {
                     vkCmdBlitImage(pc.cmd(), pc.image(data.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.dst),
                                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
                 });
-            ui_->addPass(g, d.dst);
+            TextureHandle shown = ui_->addPass(g, d.dst);
+            if (windowShot) {
+                // The whole window as presented (panels included), for the README's picture.
+                struct Copy {
+                    TextureHandle src;
+                };
+                VkBuffer dst = windowShot->get();
+                g.addPass<Copy>(
+                    "editor.window_readback", PassType::Transfer,
+                    [&](PassBuilder& b, Copy& c) {
+                        c.src = b.read(shown, TextureUsage::TransferSrc);
+                        b.sideEffect();
+                    },
+                    [dst, extent](const Copy& c, PassContext& pc) {
+                        VkBufferImageCopy region{};
+                        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                        region.imageExtent = {extent.width, extent.height, 1};
+                        vkCmdCopyImageToBuffer(pc.cmd(), pc.image(c.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1, &region);
+                    });
+            }
         },
         swapchain_->acquired(), swapchain_->rendered());
     swapchain_->present();
@@ -454,6 +483,21 @@ void EditorApp::renderFrame() {
                     pick_.node >= 0 ? doc_.scene().nodes[size_t(pick_.node)].name.c_str() : "(nothing)", pick_.position.x,
                     pick_.position.y, pick_.position.z, pick_.normal.x, pick_.normal.y, pick_.normal.z);
         pendingPick_.reset();
+    }
+    if (windowShot) {
+        app::AovImage img{extent.width, extent.height, 4, {}};
+        img.rgba.resize(size_t(extent.width) * extent.height * 4);
+        const uint8_t* px = static_cast<const uint8_t*>(windowShot->mapped());
+        bool bgra = swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM;
+        for (size_t i = 0; i < size_t(extent.width) * extent.height; ++i)
+            for (int c = 0; c < 4; ++c) img.rgba[i * 4 + size_t(c)] = px[i * 4 + size_t(bgra && c < 3 ? 2 - c : c)] / 255.0f;
+        try {
+            app::writePng(windowShotPath_, img);
+            std::cout << "speculum-editor: window written to " << windowShotPath_ << "\n";
+        } catch (const std::exception& e) {
+            std::cerr << "speculum-editor: " << windowShotPath_ << ": " << e.what() << "\n";
+        }
+        windowShotPath_.clear();
     }
     if (!screenshotPath_.empty()) {
         try {

@@ -106,6 +106,7 @@ private:
     bool pixelInspector_ = false;
     std::optional<glm::ivec2> inspectPixel_;
     std::string screenshotPath_;
+    std::string windowShotPath_;
     std::string status_;
     bool quit_ = false;
     int exitCode_ = 0;

@@ -11,7 +11,10 @@ namespace speculum::editor {
 std::optional<FieldEdit> fieldWidget(const SettingDesc& d, double value) {
     ImGui::PushID(d.name.c_str());
     std::optional<FieldEdit> edit;
-    std::string label = d.name + (d.unit.empty() ? "" : " (" + d.unit + ")");
+    // The panels group fields by module or object, so the label is the key after the prefix.
+    std::string key = d.name.substr(d.name.find('.') + 1);
+    std::string label = key + (d.unit.empty() ? "" : " (" + d.unit + ")");
+    ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.5f);
     auto changed = [&](bool valueChanged, double v) {
         bool done = ImGui::IsItemDeactivatedAfterEdit();
         if (valueChanged || done) edit = FieldEdit{v, done};
@@ -52,7 +55,8 @@ std::optional<FieldEdit> fieldWidget(const SettingDesc& d, double value) {
             break;
         }
     }
-    if (ImGui::IsItemHovered() && !d.help.empty()) ImGui::SetTooltip("%s", d.help.c_str());
+    if (ImGui::IsItemHovered() && !d.help.empty()) ImGui::SetTooltip("%s\n(%s)", d.help.c_str(), d.name.c_str());
+    ImGui::PopItemWidth();
     ImGui::PopID();
     return edit;
 }

@@ -5,10 +5,12 @@
 #include "fields.hpp"
 
 #include "speculum/app/module.hpp"
+#include "speculum/core.hpp"
 
 #include <imgui.h>
 
 #include <algorithm>
+#include <functional>
 #include <set>
 
 namespace speculum::editor {

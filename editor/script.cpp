@@ -18,7 +18,7 @@ const std::set<std::string>& knownKeys() {
     static const std::set<std::string> keys = {"click", "drag", "hover", "key", "wait", "set", "material",
                                                "probe", "action", "select", "camera", "screenshot", "save_as",
                                                "debug_view", "expect_selected", "measure", "click_node",
-                                               "drag_gizmo"};
+                                               "drag_gizmo", "window_screenshot"};
     return keys;
 }
 
