@@ -22,10 +22,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The viewport renders at this share of its size while the camera or a gizmo moves, and at
-// full size once nothing moved for kRefineAfter (issue 14: interaction at 10 fps or more on
-// lavapipe at the default window size).
-constexpr float kInteractiveScale = 0.5f;
+// While the camera or a gizmo moves the viewport renders at one of these shares of its size,
+// stepped down while interactive frames take longer than kInteractiveFrame and up while they
+// are well under it, and at full size once nothing moved for kRefineAfter (issue 14:
+// interaction at 10 fps or more on lavapipe at the default window size). Steps rather than a
+// continuous scale: every size change recompiles the graph and reallocates its transients.
+constexpr float kInteractiveScales[] = {0.15f, 0.2f, 0.25f, 0.35f, 0.5f, 0.7f};
+constexpr int kInteractiveSteps = int(std::size(kInteractiveScales));
+constexpr double kInteractiveFrame = 0.1;
 constexpr auto kRefineAfter = std::chrono::milliseconds(250);
 constexpr auto kAutosaveEvery = std::chrono::seconds(60);
 
@@ -384,7 +388,7 @@ void EditorApp::renderFrame() {
     if (reflections::probesInUse(doc_.settings())) bakeWithProgress();
     if (!swapchain_->acquire()) return;
     bool full = !interacting_ || !screenshotPath_.empty();
-    scale_ = full ? 1.0f : kInteractiveScale;
+    scale_ = full ? 1.0f : kInteractiveScales[interactiveStep_];
     uint32_t iw = std::max(16u, uint32_t(std::lround(view_.w * scale_)));
     uint32_t ih = std::max(16u, uint32_t(std::lround(view_.h * scale_)));
     Viewport::FrameRequest request;
@@ -513,6 +517,14 @@ void EditorApp::renderFrame() {
     }
 }
 
+void EditorApp::adaptInteractiveScale(double frameSeconds) {
+    interactiveEma_ = interactiveEma_ > 0.0 ? 0.6 * interactiveEma_ + 0.4 * frameSeconds : frameSeconds;
+    if (++sinceScaleChange_ < 3) return;
+    if (interactiveEma_ > kInteractiveFrame && interactiveStep_ > 0) --interactiveStep_, sinceScaleChange_ = 0;
+    else if (interactiveEma_ < 0.6 * kInteractiveFrame && interactiveStep_ + 1 < kInteractiveSteps)
+        ++interactiveStep_, sinceScaleChange_ = 0;
+}
+
 void EditorApp::updateTitle(double fps) {
     std::string title = "Speculum editor - " + doc_.path().filename().string() + (doc_.dirty() ? " *" : "");
     char buf[96];
@@ -551,12 +563,17 @@ int EditorApp::loop() {
                 std::printf("speculum-editor: measure %s: %d frames in %.2f s, %.2f fps, viewport %ux%u, GPU %.1f ms, UI %.2f ms\n",
                             measureInteract_ ? "interacting" : "still", measureFrames_, s, measureFrames_ / s,
                             uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
+                std::vector<app::PassTime> top = passTimes_;
+                std::sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
+                for (size_t i = 0; i < std::min<size_t>(6, top.size()); ++i)
+                    std::printf("speculum-editor:   %-32s %.2f ms\n", top[i].name.c_str(), top[i].ms);
                 std::fflush(stdout);
             }
             ++measureFrames_;
         }
         ImGui::Render();
         renderFrame();
+        if (interacting_) adaptInteractiveScale(std::chrono::duration<double>(Clock::now() - now).count());
         if (script_.finished()) quit_ = true;
         if (Clock::now() - lastAutosave_ > kAutosaveEvery) {
             lastAutosave_ = Clock::now();
@@ -574,6 +591,16 @@ int EditorApp::loop() {
             fpsStart = Clock::now();
         }
         updateTitle(fps);
+    }
+    // Closing with unsaved edits keeps them in the side file: the next start offers them back.
+    if (doc_.dirty()) {
+        try {
+            if (doc_.autosave())
+                std::cout << "speculum-editor: unsaved edits kept in " << doc_.autosavePath().string()
+                          << "; start the editor on the scene again to recover them\n";
+        } catch (const Error& e) {
+            std::cerr << "speculum-editor: unsaved edits could not be kept: " << e.what() << "\n";
+        }
     }
     if (ctx_->validationEnabled() && gpu::Context::validationMessageCount() > 0) {
         std::cerr << "speculum-editor: " << gpu::Context::validationMessageCount() << " Vulkan validation messages\n";

@@ -82,6 +82,7 @@ private:
     void runScriptAction(const nlohmann::json& action);
     void renderFrame();
     void updateTitle(double fps);
+    void adaptInteractiveScale(double frameSeconds);
     void bakeWithProgress();
 
     Options options_;
@@ -96,6 +97,9 @@ private:
 
     Rect view_;                  // the viewport's rectangle in the window
     float scale_ = 1.0f;         // internal resolution / viewport size
+    int interactiveStep_ = 3;    // index into the interactive scales (app.cpp)
+    int sinceScaleChange_ = 0;
+    double interactiveEma_ = 0.0;  // seconds per interactive frame, smoothed
     bool interacting_ = false;   // camera or gizmo moved this frame
     std::chrono::steady_clock::time_point lastInteraction_{};
     int selectedNode_ = -1;
