@@ -563,6 +563,8 @@ int EditorApp::loop() {
                 std::printf("speculum-editor: measure %s: %d frames in %.2f s, %.2f fps, viewport %ux%u, GPU %.1f ms, UI %.2f ms\n",
                             measureInteract_ ? "interacting" : "still", measureFrames_, s, measureFrames_ / s,
                             uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
+                for (const app::PassTime& p : passTimes_)
+                    if (p.name.rfind("editor.", 0) == 0) std::printf("speculum-editor:   %-32s %.2f ms\n", p.name.c_str(), p.ms);
                 std::vector<app::PassTime> top = passTimes_;
                 std::sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
                 for (size_t i = 0; i < std::min<size_t>(6, top.size()); ++i)
