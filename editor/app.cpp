@@ -574,7 +574,15 @@ int EditorApp::loop() {
             ++measureFrames_;
         }
         ImGui::Render();
-        renderFrame();
+        try {
+            renderFrame();
+        } catch (const Error& e) {
+            // A combination of settings a module refuses: said in the menu bar, the scene kept.
+            if (e.code() == ExitCode::NoDevice) throw;
+            status_ = e.what();
+            std::cerr << "speculum-editor: " << e.what() << "\n";
+            ui_->endFrame();
+        }
         if (interacting_) adaptInteractiveScale(std::chrono::duration<double>(Clock::now() - now).count());
         if (script_.finished()) quit_ = true;
         if (Clock::now() - lastAutosave_ > kAutosaveEvery) {

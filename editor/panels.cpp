@@ -114,9 +114,13 @@ void EditorApp::drawInspector() {
     }
     if (pixelInspector_) {
         const PixelInfo& p = viewport_->lastPixel();
-        ImGui::Text("pixel: method ss %.2f probes %.2f sky %.2f", p.method.x, p.method.y, p.method.z);
-        ImGui::Text("iterations %.0f, roughness %.3f", p.iterations, p.roughness);
-        ImGui::Text("reflection %.3f %.3f %.3f", p.reflection.x, p.reflection.y, p.reflection.z);
+        if (!p.valid) {
+            ImGui::TextDisabled("pixel inspector: hover the viewport (reflections on)");
+        } else {
+            ImGui::Text("pixel: method ss %.2f probes %.2f sky %.2f", p.method.x, p.method.y, p.method.z);
+            ImGui::Text("iterations %.0f, roughness %.3f", p.iterations, p.roughness);
+            ImGui::Text("reflection %.3f %.3f %.3f", p.reflection.x, p.reflection.y, p.reflection.z);
+        }
     }
     ImGui::Separator();
     if (selectedNode_ < 0) {

@@ -83,7 +83,10 @@ app::FrameResult Viewport::render(const FrameRequest& request, const app::Presen
 
     std::vector<std::string> aovs;
     if (request.pick) aovs = {"depth", "normal", "pick"};
-    if (request.inspect)
+    // The inspector's AOVs come from the reflections module: none on frames it does not run.
+    bool inspect = request.inspect && doc_.settings().getBool("reflections.enabled");
+    if (!inspect) pixel_.valid = false;
+    if (inspect)
         for (const char* a : {"method", "iterations", "roughness", "reflection"}) aovs.push_back(a);
     if (request.screenshot) aovs.push_back("color");
     app::LitHook inner = reflections::litHook(*reflections_, probes_.get(), doc_.settings(), frame_);
@@ -96,7 +99,7 @@ app::FrameResult Viewport::render(const FrameRequest& request, const app::Presen
     };
     app::FrameResult result = runner_->render(frame_, aovs, hook, present, wait, signal);
     if (request.pick) pick_ = resolvePick(result, *request.pick, frame_.camera);
-    if (request.inspect) {
+    if (inspect) {
         glm::ivec2 p = glm::clamp(*request.inspect, glm::ivec2(0), glm::ivec2(int(width_) - 1, int(height_) - 1));
         auto at = [&](const char* name, int c) {
             const app::AovImage& img = result.aovs.at(name);
