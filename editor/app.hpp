@@ -116,6 +116,7 @@ private:
     int exitCode_ = 0;
     std::optional<std::filesystem::path> recoverOffer_;
     char saveAsBuffer_[512] = {};
+    std::optional<std::pair<int, Material>> materialBefore_;  // a material previewed during a drag
     std::map<std::string, double> editing_;  // settings previewed during a drag: name -> value before
     nlohmann::json graph_;                   // the frame graph of a recent frame (refreshed each second)
     std::vector<app::PassTime> passTimes_;

@@ -156,9 +156,25 @@ void EditorApp::drawInspector() {
         const Material& mat = s.materials[size_t(m)];
         ImGui::PushID(m);
         if (ImGui::CollapsingHeader(("material " + mat.name).c_str(), ImGuiTreeNodeFlags_DefaultOpen))
-            for (const SettingDesc& d : materialFields())
-                if (auto e = fieldWidget(d, materialField(mat, d.name)); e && e->committed)
-                    setMaterialValue(m, d.name, e->value);
+            for (const SettingDesc& d : materialFields()) {
+                auto e = fieldWidget(d, materialField(mat, d.name));
+                if (!e) continue;
+                // Base PBR factors are previewed while the slider moves (the renderer re-reads
+                // them); the edit becomes one command when it is let go.
+                bool factor = d.name.rfind("material.", 0) == 0;
+                if (!e->committed && factor) {
+                    if (!materialBefore_) materialBefore_ = std::make_pair(m, mat);
+                    setMaterialField(doc_.mutableScene().materials[size_t(m)], d.name, e->value);
+                    viewport_->previewMaterials();
+                    continue;
+                }
+                if (!e->committed) continue;
+                if (materialBefore_ && materialBefore_->first == m) {
+                    doc_.mutableScene().materials[size_t(m)] = materialBefore_->second;
+                    materialBefore_.reset();
+                }
+                setMaterialValue(m, d.name, e->value);
+            }
         ImGui::PopID();
     }
 }

@@ -52,7 +52,8 @@ void Viewport::sync() {
     uint32_t touched = doc_.takeTouched();
     // Materials and probes are uploaded at construction; so are the renderer's settings
     // (render.*) and the probes' bake settings. The other settings are read every frame.
-    bool rebuildNeeded = touched & ~Document::bit(Command::Touches::Settings);
+    const uint32_t materials = Document::bit(Command::Touches::Materials);
+    bool rebuildNeeded = touched & ~(Document::bit(Command::Touches::Settings) | materials);
     for (const SettingDesc& d : doc_.settings().table()) {
         double now = doc_.settings().get(d.name);
         auto it = builtWith_.find(d.name);
@@ -60,7 +61,20 @@ void Viewport::sync() {
                                 (d.name.rfind("probes.", 0) == 0 && d.name != "probes.debug_view");
         if (constructionTime && it != builtWith_.end() && it->second != now) rebuildNeeded = true;
     }
-    if (rebuildNeeded) rebuild();
+    if (rebuildNeeded) {
+        rebuild();
+    } else if (touched & materials) {
+        // Materials alone: new factors for the renderer, the reflections module's per-material
+        // table (built at its construction), and probes baked again from scratch (with their
+        // bounces, as a fresh start bakes them) since they captured the old materials.
+        vkDeviceWaitIdle(ctx_.device());
+        renderer_->updateMaterialFactors();
+        reflections_.reset();
+        probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, probes::ProbeSettings::from(doc_.settings()));
+        reflections_ = std::make_unique<reflections::Reflections>(ctx_, *renderer_);
+        bakePending_ = true;
+        first_ = true;
+    }
 }
 
 void Viewport::updateProbes(const probes::Probes::Progress& progress) {

@@ -52,6 +52,9 @@ public:
 
     // Rebuilds what the document's changes since the last call invalidated.
     void sync();
+    // The scene's material factors changed outside a command (a slider being dragged): the
+    // next frames draw them, without a rebuild or a bake.
+    void previewMaterials() { renderer_->updateMaterialFactors(); }
     // Bakes what the probes ask for (every probe after a rebuild or requestBake).
     void updateProbes(const probes::Probes::Progress& progress);
     void requestBake(int probe) { probes_->requestUpdate(probe); }
