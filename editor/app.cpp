@@ -33,6 +33,12 @@ constexpr double kInteractiveFrame = 0.1;
 constexpr auto kRefineAfter = std::chrono::milliseconds(250);
 constexpr auto kAutosaveEvery = std::chrono::seconds(60);
 
+int nodeNamed(const Scene& scene, const std::string& name) {
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].name == name) return int(i);
+    return -1;
+}
+
 }  // namespace
 
 EditorApp::EditorApp(const Options& options, Document document) : options_(options), doc_(std::move(document)) {
@@ -266,16 +272,7 @@ void EditorApp::setProbeValue(int node, const std::string& field, double value) 
 // ---- the script ---------------------------------------------------------------------------
 
 void EditorApp::runScriptAction(const nlohmann::json& a) {
-    auto nodeNamed = [&](const std::string& name) {
-        for (size_t i = 0; i < doc_.scene().nodes.size(); ++i)
-            if (doc_.scene().nodes[i].name == name) return int(i);
-        return -1;
-    };
-    auto fail = [&](const std::string& why) {
-        std::cerr << "speculum-editor: " << script_.file() << ": " << why << "\n";
-        exitCode_ = 1;
-        quit_ = true;
-    };
+    auto fail = [this](const std::string& why) { scriptFail(why); };
     try {
         if (a.contains("set")) setSettingValue(a["set"].get<std::string>(), a["value"].get<double>());
         if (a.contains("material")) {
@@ -289,48 +286,9 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
             if (selectedNode_ < 0 || !doc_.scene().nodes[size_t(selectedNode_)].probe) return fail("no probe selected");
             setProbeValue(selectedNode_, a["probe"].get<std::string>(), a["value"].get<double>());
         }
-        if (a.contains("click_node")) {
-            // Where the node's bounds' centre is on screen, clicked with the mouse like a user.
-            int node = nodeNamed(a["click_node"].get<std::string>());
-            glm::vec3 lo(1e30f), hi(-1e30f);
-            for (const Instance& inst : doc_.scene().instances)
-                if (inst.node == node)
-                    for (const Primitive& p : doc_.scene().meshes[size_t(inst.mesh)].primitives) {
-                        lo = glm::min(lo, glm::vec3(inst.world * glm::vec4(p.boundsMin, 1.0f)));
-                        hi = glm::max(hi, glm::vec3(inst.world * glm::vec4(p.boundsMax, 1.0f)));
-                        lo = glm::min(lo, glm::vec3(inst.world * glm::vec4(p.boundsMax, 1.0f)));
-                        hi = glm::max(hi, glm::vec3(inst.world * glm::vec4(p.boundsMin, 1.0f)));
-                    }
-            float x, y;
-            if (node < 0 || lo.x > hi.x || !project(camera_.state(uint32_t(view_.w), uint32_t(view_.h)), 0.5f * (lo + hi), x, y))
-                return fail("cannot click " + a["click_node"].dump() + ": no such mesh node in view");
-            script_.replaceCurrent({{"click", {x, y}}});
-            return;
-        }
-        if (a.contains("drag_gizmo")) {
-            if (selectedNode_ < 0 || !doc_.scene().nodes[size_t(selectedNode_)].probe) return fail("drag_gizmo: no probe selected");
-            int axis = a["drag_gizmo"].value("axis", 0);
-            float pixels = a["drag_gizmo"].value("pixels", 50.0f);
-            render::CameraState cam = camera_.state(uint32_t(view_.w), uint32_t(view_.h));
-            glm::vec3 origin(doc_.scene().nodes[size_t(selectedNode_)].world[3]);
-            glm::vec3 dir(0.0f);
-            dir[axis % 3] = 1.0f;
-            float len = 0.15f * glm::length(origin - cam.position);
-            float ox, oy, ax, ay;
-            if (!project(cam, origin, ox, oy) || !project(cam, origin + dir * len, ax, ay))
-                return fail("drag_gizmo: the gizmo is not in view");
-            float dx = ax - ox, dy = ay - oy, l = std::max(1e-3f, std::hypot(dx, dy));
-            float fx = ox + 0.7f * dx, fy = oy + 0.7f * dy;
-            if (axis == 3) {  // the plane handle's centre
-                float px, py;
-                project(cam, origin + glm::vec3(0.3f, 0.0f, 0.3f) * len, px, py);
-                fx = px, fy = py;
-            }
-            script_.replaceCurrent({{"drag", {{"from", {fx, fy}}, {"to", {fx + dx / l * pixels, fy + dy / l * pixels}},
-                                              {"frames", a["drag_gizmo"].value("frames", 6)}}}});
-            return;
-        }
-        if (a.contains("select")) select(nodeNamed(a["select"].get<std::string>()));
+        if (a.contains("click_node")) return scriptClickNode(a["click_node"].get<std::string>());
+        if (a.contains("drag_gizmo")) return scriptDragGizmo(a["drag_gizmo"]);
+        if (a.contains("select")) select(nodeNamed(doc_.scene(), a["select"].get<std::string>()));
         if (a.contains("camera")) {
             const Camera* c = doc_.scene().findCamera(a["camera"].get<std::string>());
             if (!c) return fail("no camera " + a["camera"].dump());
@@ -369,6 +327,64 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
     } catch (const Error& e) {
         fail(e.what());
     }
+}
+
+// {"click_node": NAME}: a click where the node's bounds' centre is on screen, as a user would.
+void EditorApp::scriptClickNode(const std::string& name) {
+    int node = nodeNamed(doc_.scene(), name);
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const Instance& inst : doc_.scene().instances) {
+        if (inst.node != node) continue;
+        for (const Primitive& p : doc_.scene().meshes[size_t(inst.mesh)].primitives)
+            for (int k = 0; k < 8; ++k) {
+                glm::vec3 c((k & 1) ? p.boundsMax.x : p.boundsMin.x, (k & 2) ? p.boundsMax.y : p.boundsMin.y,
+                            (k & 4) ? p.boundsMax.z : p.boundsMin.z);
+                glm::vec3 w(inst.world * glm::vec4(c, 1.0f));
+                lo = glm::min(lo, w);
+                hi = glm::max(hi, w);
+            }
+    }
+    float x, y;
+    if (node < 0 || lo.x > hi.x || !project(camera_.state(uint32_t(view_.w), uint32_t(view_.h)), 0.5f * (lo + hi), x, y))
+        return scriptFail("cannot click \"" + name + "\": no such mesh node in view");
+    script_.replaceCurrent({{"click", {x, y}}});
+}
+
+// {"drag_gizmo": {"axis": A, "pixels": P}}: a mouse drag from a gizmo handle (0-2 the axes, 3 the
+// plane, 4-6 the extents, 7 the blend distance) along its direction on screen.
+void EditorApp::scriptDragGizmo(const nlohmann::json& g) {
+    if (selectedNode_ < 0 || !doc_.scene().nodes[size_t(selectedNode_)].probe)
+        return scriptFail("drag_gizmo: no probe selected");
+    const Node& node = doc_.scene().nodes[size_t(selectedNode_)];
+    int axis = std::clamp(g.value("axis", 0), 0, 7);
+    float pixels = g.value("pixels", 50.0f);
+    render::CameraState cam = camera_.state(uint32_t(view_.w), uint32_t(view_.h));
+    glm::vec3 origin(node.world[3]);
+    float len = 0.15f * glm::length(origin - cam.position);
+    // The handle's screen position (from) and a second point along its direction.
+    glm::vec3 from = origin, along(0.0f);
+    if (axis < 3) {
+        along[axis] = len;
+        from = origin + along * 0.7f;
+    } else if (axis == 3) {
+        from = origin + glm::vec3(0.3f, 0.0f, 0.3f) * len;
+        along = glm::vec3(len, 0.0f, 0.0f);
+    } else {
+        from = handlePosition(node.world, *node.probe, axis);
+        along = glm::vec3(node.world[axis == 7 ? 0 : axis - 4]);
+    }
+    float fx, fy, ax, ay;
+    if (!project(cam, from, fx, fy) || !project(cam, from + along, ax, ay))
+        return scriptFail("drag_gizmo: the handle is not in view");
+    float dx = ax - fx, dy = ay - fy, l = std::max(1e-3f, std::hypot(dx, dy));
+    script_.replaceCurrent({{"drag", {{"from", {fx, fy}}, {"to", {fx + dx / l * pixels, fy + dy / l * pixels}},
+                                      {"frames", g.value("frames", 6)}}}});
+}
+
+void EditorApp::scriptFail(const std::string& why) {
+    std::cerr << "speculum-editor: " << script_.file() << ": " << why << "\n";
+    exitCode_ = 1;
+    quit_ = true;
 }
 
 // ---- the frame ----------------------------------------------------------------------------

@@ -37,10 +37,13 @@ struct Rect {
 
 // The translate gizmo's drag: which handle, and where it started.
 struct GizmoDrag {
-    int axis = -1;  // 0 x, 1 y, 2 z, 3 the xz plane; -1 none
+    // 0 x, 1 y, 2 z, 3 the xz plane (translate); 4, 5, 6 the box's x, y, z extents; 7 the blend
+    // distance; -1 none.
+    int axis = -1;
     glm::vec3 start{0.0f};
     glm::vec3 current{0.0f};
     float mouseX = 0, mouseY = 0;
+    ReflectionProbe probe;  // extents and blend handles: the previewed probe
 };
 
 class EditorApp {
@@ -75,11 +78,19 @@ private:
     bool gizmoInput(const render::CameraState& cam);
     void drawOverlays(const render::CameraState& cam);
     bool project(const render::CameraState& cam, glm::vec3 world, float& x, float& y) const;
+    // Where a probe's shape handles are (extents on +x, +y, +z; blend on +x inside), in world space.
+    glm::vec3 handlePosition(const glm::mat4& world, const ReflectionProbe& probe, int handle) const;
+    bool shapeDrag(const render::CameraState& cam, const Node& node, float mouseX, float mouseY);
+    int hitHandle(const render::CameraState& cam, glm::vec3 origin, float len, const glm::mat4& world,
+                  const ReflectionProbe& probe) const;
     // app.cpp
     void layout();
     void viewportInput(float dt);
     void shortcuts();
     void runScriptAction(const nlohmann::json& action);
+    void scriptClickNode(const std::string& name);
+    void scriptDragGizmo(const nlohmann::json& drag);
+    void scriptFail(const std::string& why);
     void renderFrame();
     void updateTitle(double fps);
     void adaptInteractiveScale(double frameSeconds);

@@ -39,6 +39,77 @@ bool EditorApp::project(const render::CameraState& cam, glm::vec3 world, float& 
     return true;
 }
 
+glm::vec3 EditorApp::handlePosition(const glm::mat4& world, const ReflectionProbe& probe, int handle) const {
+    glm::vec3 local(0.0f);
+    if (handle >= 4 && handle <= 6) local[handle - 4] = probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents[handle - 4];
+    // The blend handle sits on the inner box's +x+y edge, off the translate gizmo's x axis.
+    if (handle == 7) {
+        local.x = std::max(0.0f, probe.extents.x - probe.blendDistance);
+        local.y = std::max(0.0f, (probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents.y) - probe.blendDistance);
+    }
+    return glm::vec3(world * glm::vec4(local, 1.0f));
+}
+
+// The handle under the mouse: a translate axis (0-2), the plane (3), an extent (4-6; spheres
+// have one, the radius) or the blend distance (7); -1 none.
+int EditorApp::hitHandle(const render::CameraState& cam, glm::vec3 origin, float len, const glm::mat4& world,
+                         const ReflectionProbe& probe) const {
+    ImVec2 mouse = ImGui::GetIO().MousePos;
+    float ox, oy;
+    if (!project(cam, origin, ox, oy)) return -1;
+    // The nearest handle within reach wins (handles can line up on screen).
+    int hit = -1;
+    float best = 1e30f;
+    auto consider = [&](int h, float distance, float reach) {
+        if (distance < reach && distance < best) best = distance, hit = h;
+    };
+    for (int a = 0; a < 3; ++a) {
+        float ax, ay;
+        if (project(cam, origin + axisVector(a) * len, ax, ay)) consider(a, segmentDistance(mouse, {ox, oy}, {ax, ay}), 7.0f);
+    }
+    float px, py;
+    if (project(cam, origin + (axisVector(0) + axisVector(2)) * (0.3f * len), px, py))
+        consider(3, std::hypot(mouse.x - px, mouse.y - py), 10.0f);
+    for (int h = 4; h <= 7; ++h) {
+        if (probe.shape == ProbeShape::Sphere && (h == 5 || h == 6)) continue;
+        if (project(cam, handlePosition(world, probe, h), px, py)) consider(h, std::hypot(mouse.x - px, mouse.y - py), 8.0f);
+    }
+    return hit;
+}
+
+// Dragging an extent or the blend handle along its axis (node space); one command on release.
+bool EditorApp::shapeDrag(const render::CameraState& cam, const Node& node, float mx, float my) {
+    ReflectionProbe& p = drag_.probe;
+    const ReflectionProbe& before = *node.probe;
+    int axis = drag_.axis == 7 ? 0 : drag_.axis - 4;
+    if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        // Screen motion along the handle's axis, in node units: project one node unit.
+        glm::vec3 at = handlePosition(node.world, before, drag_.axis);
+        glm::vec3 unit = glm::vec3(node.world * glm::vec4(axisVector(axis), 0.0f));
+        float ax, ay, bx, by;
+        if (!project(cam, at, ax, ay) || !project(cam, at + unit, bx, by)) return true;
+        float dx = bx - ax, dy = by - ay, d2 = std::max(1e-3f, dx * dx + dy * dy);
+        float t = ((mx - drag_.mouseX) * dx + (my - drag_.mouseY) * dy) / d2;
+        p = before;
+        if (drag_.axis == 7) {
+            p.blendDistance = std::clamp(before.blendDistance - t, 0.0f, before.extents.x);
+        } else if (before.shape == ProbeShape::Sphere) {
+            p.extents.x = std::max(0.01f, before.extents.x + t);
+        } else {
+            p.extents[axis] = std::max(0.01f, before.extents[axis] + t);
+        }
+        return true;
+    }
+    drag_.axis = -1;
+    if (!(p == before)) {
+        doc_.execute(setProbe(doc_, selectedNode_, p));
+        status_ = "resized " + node.name;
+        std::printf("speculum-editor: resized %s to extents %.4f %.4f %.4f blend %.4f\n", node.name.c_str(), p.extents.x,
+                    p.extents.y, p.extents.z, p.blendDistance);
+    }
+    return true;
+}
+
 // Returns true while the gizmo owns the mouse (a drag started on a handle, or goes on).
 bool EditorApp::gizmoInput(const render::CameraState& cam) {
     ImGuiIO& io = ImGui::GetIO();
@@ -56,20 +127,14 @@ bool EditorApp::gizmoInput(const render::CameraState& cam) {
         if (!ImGui::IsMouseClicked(ImGuiMouseButton_Left) || io.WantCaptureMouse || io.KeyAlt ||
             !view_.contains(mouse.x, mouse.y))
             return false;
-        int hit = -1;
-        for (int a = 0; a < 3; ++a) {
-            float ax, ay;
-            if (project(cam, origin + axisVector(a) * len, ax, ay) && segmentDistance(mouse, {ox, oy}, {ax, ay}) < 7.0f)
-                hit = a;
-        }
-        float px, py;
-        if (project(cam, origin + (axisVector(0) + axisVector(2)) * (0.3f * len), px, py) &&
-            std::hypot(mouse.x - px, mouse.y - py) < 10.0f)
-            hit = 3;
+        const Node& n = doc_.scene().nodes[size_t(selectedNode_)];
+        int hit = hitHandle(cam, origin, len, n.world, *n.probe);
         if (hit < 0) return false;
-        drag_ = {hit, origin, origin, mouse.x, mouse.y};
+        drag_ = {hit, origin, origin, mouse.x, mouse.y, *n.probe};
         return true;
     }
+    const Node& node = doc_.scene().nodes[size_t(selectedNode_)];
+    if (drag_.axis >= 4) return shapeDrag(cam, node, mouse.x, mouse.y);
     if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
         if (drag_.axis < 3) {
             float ax, ay, sx, sy;
@@ -122,12 +187,22 @@ void EditorApp::drawOverlays(const render::CameraState& cam) {
         if (!n.probe) continue;
         bool selected = int(i) == selectedNode_;
         glm::mat4 world = n.world;
-        if (selected && drag_.axis >= 0) world[3] += glm::vec4(drag_.current - drag_.start, 0.0f);
         ImU32 color = selected ? IM_COL32(255, 210, 60, 255) : IM_COL32(80, 220, 230, 200);
-        glm::vec3 e = n.probe->extents;
-        if (n.probe->shape == ProbeShape::Box) {
+        const ReflectionProbe& probe = selected && drag_.axis >= 4 ? drag_.probe : *n.probe;
+        if (selected && drag_.axis >= 0 && drag_.axis < 4) world[3] = glm::vec4(drag_.current, 1.0f);
+        glm::vec3 e = probe.extents;
+        if (selected)
+            for (int h = 4; h <= 7; ++h) {
+                if (probe.shape == ProbeShape::Sphere && (h == 5 || h == 6)) continue;
+                float hx, hy;
+                if (!project(cam, handlePosition(world, probe, h), hx, hy)) continue;
+                ImU32 c = h == drag_.axis ? IM_COL32(255, 255, 255, 255) : h == 7 ? IM_COL32(255, 150, 60, 230) : color;
+                if (h == 7) dl->AddCircleFilled({hx, hy}, 5.0f, c);
+                else dl->AddRectFilled({hx - 5, hy - 5}, {hx + 5, hy + 5}, c);
+            }
+        if (probe.shape == ProbeShape::Box) {
             // The influence box and, thinner, where the blend toward its border starts.
-            for (float shrink : {0.0f, n.probe->blendDistance}) {
+            for (float shrink : {0.0f, probe.blendDistance}) {
                 glm::vec3 h = glm::max(e - shrink, glm::vec3(0.0f));
                 auto corner = [&](int k) {
                     glm::vec3 c((k & 1) ? h.x : -h.x, (k & 2) ? h.y : -h.y, (k & 4) ? h.z : -h.z);

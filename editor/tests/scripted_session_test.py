@@ -5,7 +5,7 @@ scripted_session_test.py EDITOR CAPTURE SOURCE_DIR OUT_DIR
 
 On a copy of the gallery (with content the engine does not model added to it) the script clicks
 the chrome sphere (a pick readback), adds a probe at the clicked point, drags it along x with the
-gizmo, changes the chrome material's roughness, undoes once (Ctrl+Z: the roughness comes back),
+gizmo, widens its box with the +x extents handle, changes the chrome material's roughness, undoes once (Ctrl+Z: the roughness comes back),
 saves (Ctrl+S) and takes a viewport screenshot from the camera `main`. The test then checks the
 saved glTF against what the editor reported and against the original, and renders the saved
 scene with speculum-capture from the same camera at the viewport's size: the two images must
@@ -48,6 +48,7 @@ def main():
         {"click_node": "chrome_sphere"}, {"expect_selected": "chrome_sphere"},
         {"action": "add_probe"}, {"wait": 1},
         {"drag_gizmo": {"axis": 0, "pixels": 60, "frames": 4}}, {"wait": 1},
+        {"drag_gizmo": {"axis": 4, "pixels": 30, "frames": 4}}, {"wait": 1},
         {"material": "chrome", "field": "material.roughness", "value": 0.3}, {"wait": 1},
         {"key": "ctrl+z"}, {"wait": 1},
         {"key": "ctrl+s"},
@@ -70,7 +71,8 @@ def main():
     added = re.search(r"added (\S+) at (\S+ \S+ \S+)", log)
     moved = re.search(r"moved (\S+) to (\S+ \S+ \S+)", log)
     shot = re.search(r"viewport (\d+)x(\d+) written", log)
-    if not (picked and added and moved and shot):
+    resized = re.search(r"resized \S+ to extents (\S+ \S+ \S+) blend (\S+)", log)
+    if not (picked and added and moved and shot and resized):
         print(log[-4000:])
         fail("the editor did not report the pick, the new probe, the move and the screenshot")
     p, n = vec(picked.group(1)), vec(picked.group(2))
@@ -100,8 +102,13 @@ def main():
     if math.dist(probe.get("translation", [0, 0, 0]), m) > 1e-3:
         fail("saved probe at %s, the editor moved it to %s" % (probe.get("translation"), m))
     ext = probe.get("extensions", {}).get("SPECULUM_reflection_probe")
-    if not ext or ext.get("extents") != [1, 1, 1] or ext.get("kind") != "local_cubemap":
-        fail("saved probe extension %s" % ext)
+    # The extents handle on +x made the box wider along x only.
+    extents = vec(resized.group(1))
+    if not extents[0] > 1.05 or extents[1:] != [1.0, 1.0]:
+        fail("the +x extents handle gave extents %s" % extents)
+    if not ext or ext.get("kind") != "local_cubemap" or \
+            any(abs(a - b) > 1e-3 for a, b in zip(ext.get("extents", []), extents)):
+        fail("saved probe extension %s, the editor resized it to %s" % (ext, extents))
     if "SPECULUM_reflection_probe" not in saved.get("extensionsUsed", []):
         fail("extensionsUsed lacks SPECULUM_reflection_probe")
     idx = saved["nodes"].index(probe)
