@@ -81,7 +81,8 @@ void EditorApp::layout() {
     float menu = ImGui::GetFrameHeight();
     float left = std::min(260.0f, io.DisplaySize.x * 0.22f), right = std::min(360.0f, io.DisplaySize.x * 0.3f);
     float bottom = std::min(190.0f, io.DisplaySize.y * 0.28f);
-    view_ = {left, menu, std::max(16.0f, io.DisplaySize.x - left - right), std::max(16.0f, io.DisplaySize.y - menu - bottom)};
+    view_ = {left, menu, std::max(16.0f, io.DisplaySize.x - left - right),
+             std::max(16.0f, io.DisplaySize.y - menu - bottom)};
     ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse;
     ImGui::SetNextWindowPos({0, menu});
     ImGui::SetNextWindowSize({left, io.DisplaySize.y - menu});
@@ -118,13 +119,15 @@ void EditorApp::viewportInput(float dt) {
     bool moved = false;
     if (gizmoInput(cam)) {
         moved = true;
-    } else if (overView || ImGui::IsMouseDragging(ImGuiMouseButton_Right) || ImGui::IsMouseDragging(ImGuiMouseButton_Middle)) {
+    } else if (overView || ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
+               ImGui::IsMouseDragging(ImGuiMouseButton_Middle)) {
         ImVec2 d = io.MouseDelta;
         bool alt = io.KeyAlt;
         if (ImGui::IsMouseDown(ImGuiMouseButton_Right) && (d.x != 0 || d.y != 0)) camera_.look(d.x, d.y), moved = true;
         if (ImGui::IsMouseDown(ImGuiMouseButton_Middle) && (d.x != 0 || d.y != 0))
             camera_.pan(d.x, d.y, view_.h), moved = true;
-        if (alt && ImGui::IsMouseDown(ImGuiMouseButton_Left) && (d.x != 0 || d.y != 0)) camera_.orbit(d.x, d.y), moved = true;
+        if (alt && ImGui::IsMouseDown(ImGuiMouseButton_Left) && (d.x != 0 || d.y != 0))
+            camera_.orbit(d.x, d.y), moved = true;
         if (overView && io.MouseWheel != 0.0f) camera_.zoom(io.MouseWheel), moved = true;
         if (ImGui::IsMouseDown(ImGuiMouseButton_Right)) {
             glm::vec3 m(0.0f);
@@ -141,7 +144,8 @@ void EditorApp::viewportInput(float dt) {
         }
     }
     if (pixelInspector_ && overView) {
-        inspectPixel_ = glm::ivec2(int((io.MousePos.x - view_.x) / view_.w * 1e6f), int((io.MousePos.y - view_.y) / view_.h * 1e6f));
+        inspectPixel_ = glm::ivec2(int((io.MousePos.x - view_.x) / view_.w * 1e6f),
+                                   int((io.MousePos.y - view_.y) / view_.h * 1e6f));
     } else {
         inspectPixel_.reset();
     }
@@ -210,7 +214,8 @@ void EditorApp::addProbeAtPick() {
     doc_.execute(addProbe(doc_, "probe." + std::to_string(count + 1), at, probe));
     select(int(doc_.scene().nodes.size() - 1));
     status_ = "added a probe at the picked point";
-    std::printf("speculum-editor: added %s at %.4f %.4f %.4f\n", doc_.scene().nodes.back().name.c_str(), at.x, at.y, at.z);
+    std::printf("speculum-editor: added %s at %.4f %.4f %.4f\n", doc_.scene().nodes.back().name.c_str(), at.x, at.y,
+                at.z);
 }
 
 void EditorApp::deleteSelectedProbe() {
@@ -313,16 +318,26 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
         }
         if (a.contains("action")) {
             std::string act = a["action"].get<std::string>();
-            if (act == "add_probe") addProbeAtPick();
-            else if (act == "delete_probe") deleteSelectedProbe();
-            else if (act == "bake_all") viewport_->requestBake(-1);
-            else if (act == "save") save();
-            else if (act == "undo") undo();
-            else if (act == "redo") redo();
-            else if (act == "frame") frameSelection();
-            else if (act == "pixel_inspector") pixelInspector_ = !pixelInspector_;
-            else if (act == "quit") quit_ = true;
-            else return fail("unknown action " + act);
+            if (act == "add_probe")
+                addProbeAtPick();
+            else if (act == "delete_probe")
+                deleteSelectedProbe();
+            else if (act == "bake_all")
+                viewport_->requestBake(-1);
+            else if (act == "save")
+                save();
+            else if (act == "undo")
+                undo();
+            else if (act == "redo")
+                redo();
+            else if (act == "frame")
+                frameSelection();
+            else if (act == "pixel_inspector")
+                pixelInspector_ = !pixelInspector_;
+            else if (act == "quit")
+                quit_ = true;
+            else
+                return fail("unknown action " + act);
         }
     } catch (const Error& e) {
         fail(e.what());
@@ -345,7 +360,8 @@ void EditorApp::scriptClickNode(const std::string& name) {
             }
     }
     float x, y;
-    if (node < 0 || lo.x > hi.x || !project(camera_.state(uint32_t(view_.w), uint32_t(view_.h)), 0.5f * (lo + hi), x, y))
+    if (node < 0 || lo.x > hi.x ||
+        !project(camera_.state(uint32_t(view_.w), uint32_t(view_.h)), 0.5f * (lo + hi), x, y))
         return scriptFail("cannot click \"" + name + "\": no such mesh node in view");
     script_.replaceCurrent({{"click", {x, y}}});
 }
@@ -377,8 +393,10 @@ void EditorApp::scriptDragGizmo(const nlohmann::json& g) {
     if (!project(cam, from, fx, fy) || !project(cam, from + along, ax, ay))
         return scriptFail("drag_gizmo: the handle is not in view");
     float dx = ax - fx, dy = ay - fy, l = std::max(1e-3f, std::hypot(dx, dy));
-    script_.replaceCurrent({{"drag", {{"from", {fx, fy}}, {"to", {fx + dx / l * pixels, fy + dy / l * pixels}},
-                                      {"frames", g.value("frames", 6)}}}});
+    script_.replaceCurrent({{"drag",
+                             {{"from", {fx, fy}},
+                              {"to", {fx + dx / l * pixels, fy + dy / l * pixels}},
+                              {"frames", g.value("frames", 6)}}}});
 }
 
 void EditorApp::scriptFail(const std::string& why) {
@@ -399,6 +417,90 @@ void EditorApp::bakeWithProgress() {
     });
 }
 
+// The editor's passes after the modules' tonemap: the viewport's image blitted into its
+// rectangle of the swapchain image, the UI over it, and, when asked, the window read back.
+void EditorApp::addPresentPasses(FrameGraph& g, TextureHandle color, const gpu::Buffer* windowShot) {
+    Rect rect = view_;
+    VkExtent2D extent = swapchain_->extent();
+    TextureDesc desc{.width = extent.width, .height = extent.height, .format = swapchain_->format()};
+    TextureHandle target =
+        g.importTexture("editor.swapchain", desc,
+                        {swapchain_->image(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                         VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    struct Data {
+        TextureHandle src, dst;
+    };
+    const Data& d = g.addPass<Data>(
+        "editor.viewport", PassType::Transfer,
+        [&](PassBuilder& b, Data& data) {
+            data.src = b.read(color, TextureUsage::TransferSrc);
+            data.dst = b.write(target, TextureUsage::TransferDst);
+        },
+        [rect, extent](const Data& data, PassContext& pc) {
+            VkClearColorValue grey{{0.1f, 0.1f, 0.11f, 1.0f}};
+            VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(pc.cmd(), pc.image(data.dst), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1, &all);
+            // The blit writes the same image as the clear.
+            VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+            mb.srcStageMask = mb.dstStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+            mb.srcAccessMask = mb.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+            VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+            dep.memoryBarrierCount = 1;
+            dep.pMemoryBarriers = &mb;
+            vkCmdPipelineBarrier2(pc.cmd(), &dep);
+            VkExtent2D s = pc.extent(data.src);
+            VkImageBlit blit{};
+            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            blit.srcOffsets[1] = {int32_t(s.width), int32_t(s.height), 1};
+            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            int32_t x0 = std::clamp(int32_t(rect.x), 0, int32_t(extent.width) - 1);
+            int32_t y0 = std::clamp(int32_t(rect.y), 0, int32_t(extent.height) - 1);
+            blit.dstOffsets[0] = {x0, y0, 0};
+            blit.dstOffsets[1] = {std::clamp(int32_t(rect.x + rect.w), x0 + 1, int32_t(extent.width)),
+                                  std::clamp(int32_t(rect.y + rect.h), y0 + 1, int32_t(extent.height)), 1};
+            vkCmdBlitImage(pc.cmd(), pc.image(data.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.dst),
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+        });
+    TextureHandle shown = ui_->addPass(g, d.dst);
+    if (windowShot) {
+        // The whole window as presented (panels included), for the README's picture.
+        struct Copy {
+            TextureHandle src;
+        };
+        VkBuffer dst = windowShot->get();
+        g.addPass<Copy>(
+            "editor.window_readback", PassType::Transfer,
+            [&](PassBuilder& b, Copy& c) {
+                c.src = b.read(shown, TextureUsage::TransferSrc);
+                b.sideEffect();
+            },
+            [dst, extent](const Copy& c, PassContext& pc) {
+                VkBufferImageCopy region{};
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageExtent = {extent.width, extent.height, 1};
+                vkCmdCopyImageToBuffer(pc.cmd(), pc.image(c.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1,
+                                       &region);
+            });
+    }
+}
+
+void EditorApp::writeWindowShot(const gpu::Buffer& shot, VkExtent2D extent) {
+    app::AovImage img{extent.width, extent.height, 4, {}};
+    img.rgba.resize(size_t(extent.width) * extent.height * 4);
+    const uint8_t* px = static_cast<const uint8_t*>(shot.mapped());
+    bool bgra = swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM;
+    for (size_t i = 0; i < size_t(extent.width) * extent.height; ++i)
+        for (int c = 0; c < 4; ++c)
+            img.rgba[i * 4 + size_t(c)] = px[i * 4 + size_t(bgra && c < 3 ? 2 - c : c)] / 255.0f;
+    try {
+        app::writePng(windowShotPath_, img);
+        std::cout << "speculum-editor: window written to " << windowShotPath_ << "\n";
+    } catch (const std::exception& e) {
+        std::cerr << "speculum-editor: " << windowShotPath_ << ": " << e.what() << "\n";
+    }
+    windowShotPath_.clear();
+}
+
 void EditorApp::renderFrame() {
     viewport_->sync();
     if (reflections::probesInUse(doc_.settings())) bakeWithProgress();
@@ -415,7 +517,6 @@ void EditorApp::renderFrame() {
     if (pendingPick_) request.pick = toInternal(*pendingPick_);
     if (inspectPixel_) request.inspect = toInternal(*inspectPixel_);
     request.screenshot = !screenshotPath_.empty();
-    Rect rect = view_;
     VkExtent2D extent = swapchain_->extent();
     std::unique_ptr<gpu::Buffer> windowShot;
     if (!windowShotPath_.empty() && !(swapchain_->usage() & VK_IMAGE_USAGE_TRANSFER_SRC_BIT)) {
@@ -426,68 +527,7 @@ void EditorApp::renderFrame() {
         windowShot = std::make_unique<gpu::Buffer>(*ctx_, VkDeviceSize(extent.width) * extent.height * 4,
                                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "editor.window_shot");
     app::FrameResult result = viewport_->render(
-        request,
-        [&](FrameGraph& g, TextureHandle color) {
-            TextureDesc desc{.width = extent.width, .height = extent.height, .format = swapchain_->format()};
-            TextureHandle target = g.importTexture(
-                "editor.swapchain", desc,
-                {swapchain_->image(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
-            struct Data {
-                TextureHandle src, dst;
-            };
-            const Data& d = g.addPass<Data>(
-                "editor.viewport", PassType::Transfer,
-                [&](PassBuilder& b, Data& data) {
-                    data.src = b.read(color, TextureUsage::TransferSrc);
-                    data.dst = b.write(target, TextureUsage::TransferDst);
-                },
-                [rect, extent](const Data& data, PassContext& pc) {
-                    VkClearColorValue grey{{0.1f, 0.1f, 0.11f, 1.0f}};
-                    VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-                    vkCmdClearColorImage(pc.cmd(), pc.image(data.dst), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1, &all);
-                    // The blit writes the same image as the clear.
-                    VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-                    mb.srcStageMask = mb.dstStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-                    mb.srcAccessMask = mb.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-                    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-                    dep.memoryBarrierCount = 1;
-                    dep.pMemoryBarriers = &mb;
-                    vkCmdPipelineBarrier2(pc.cmd(), &dep);
-                    VkExtent2D s = pc.extent(data.src);
-                    VkImageBlit blit{};
-                    blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                    blit.srcOffsets[1] = {int32_t(s.width), int32_t(s.height), 1};
-                    blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                    int32_t x0 = std::clamp(int32_t(rect.x), 0, int32_t(extent.width) - 1);
-                    int32_t y0 = std::clamp(int32_t(rect.y), 0, int32_t(extent.height) - 1);
-                    blit.dstOffsets[0] = {x0, y0, 0};
-                    blit.dstOffsets[1] = {std::clamp(int32_t(rect.x + rect.w), x0 + 1, int32_t(extent.width)),
-                                          std::clamp(int32_t(rect.y + rect.h), y0 + 1, int32_t(extent.height)), 1};
-                    vkCmdBlitImage(pc.cmd(), pc.image(data.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.dst),
-                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-                });
-            TextureHandle shown = ui_->addPass(g, d.dst);
-            if (windowShot) {
-                // The whole window as presented (panels included), for the README's picture.
-                struct Copy {
-                    TextureHandle src;
-                };
-                VkBuffer dst = windowShot->get();
-                g.addPass<Copy>(
-                    "editor.window_readback", PassType::Transfer,
-                    [&](PassBuilder& b, Copy& c) {
-                        c.src = b.read(shown, TextureUsage::TransferSrc);
-                        b.sideEffect();
-                    },
-                    [dst, extent](const Copy& c, PassContext& pc) {
-                        VkBufferImageCopy region{};
-                        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                        region.imageExtent = {extent.width, extent.height, 1};
-                        vkCmdCopyImageToBuffer(pc.cmd(), pc.image(c.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1, &region);
-                    });
-            }
-        },
+        request, [&](FrameGraph& g, TextureHandle color) { addPresentPasses(g, color, windowShot.get()); },
         swapchain_->acquired(), swapchain_->rendered());
     swapchain_->present();
     ui_->endFrame();
@@ -500,25 +540,12 @@ void EditorApp::renderFrame() {
         pick_ = viewport_->lastPick();
         select(pick_.node);
         std::printf("speculum-editor: picked %s at %.4f %.4f %.4f normal %.4f %.4f %.4f\n",
-                    pick_.node >= 0 ? doc_.scene().nodes[size_t(pick_.node)].name.c_str() : "(nothing)", pick_.position.x,
-                    pick_.position.y, pick_.position.z, pick_.normal.x, pick_.normal.y, pick_.normal.z);
+                    pick_.node >= 0 ? doc_.scene().nodes[size_t(pick_.node)].name.c_str() : "(nothing)",
+                    pick_.position.x, pick_.position.y, pick_.position.z, pick_.normal.x, pick_.normal.y,
+                    pick_.normal.z);
         pendingPick_.reset();
     }
-    if (windowShot) {
-        app::AovImage img{extent.width, extent.height, 4, {}};
-        img.rgba.resize(size_t(extent.width) * extent.height * 4);
-        const uint8_t* px = static_cast<const uint8_t*>(windowShot->mapped());
-        bool bgra = swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM;
-        for (size_t i = 0; i < size_t(extent.width) * extent.height; ++i)
-            for (int c = 0; c < 4; ++c) img.rgba[i * 4 + size_t(c)] = px[i * 4 + size_t(bgra && c < 3 ? 2 - c : c)] / 255.0f;
-        try {
-            app::writePng(windowShotPath_, img);
-            std::cout << "speculum-editor: window written to " << windowShotPath_ << "\n";
-        } catch (const std::exception& e) {
-            std::cerr << "speculum-editor: " << windowShotPath_ << ": " << e.what() << "\n";
-        }
-        windowShotPath_.clear();
-    }
+    if (windowShot) writeWindowShot(*windowShot, extent);
     if (!screenshotPath_.empty()) {
         try {
             std::filesystem::path out(screenshotPath_);
@@ -536,7 +563,8 @@ void EditorApp::renderFrame() {
 void EditorApp::adaptInteractiveScale(double frameSeconds) {
     interactiveEma_ = interactiveEma_ > 0.0 ? 0.6 * interactiveEma_ + 0.4 * frameSeconds : frameSeconds;
     if (++sinceScaleChange_ < 3) return;
-    if (interactiveEma_ > kInteractiveFrame && interactiveStep_ > 0) --interactiveStep_, sinceScaleChange_ = 0;
+    if (interactiveEma_ > kInteractiveFrame && interactiveStep_ > 0)
+        --interactiveStep_, sinceScaleChange_ = 0;
     else if (interactiveEma_ < 0.6 * kInteractiveFrame && interactiveStep_ + 1 < kInteractiveSteps)
         ++interactiveStep_, sinceScaleChange_ = 0;
 }
@@ -547,6 +575,33 @@ void EditorApp::updateTitle(double fps) {
     std::snprintf(buf, sizeof buf, " - %.1f fps, %s %ux%u", fps, interacting_ ? "moving" : "still",
                   uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)));
     window_->setTitle(title + buf);
+}
+
+// One frame of a --script measurement: the camera orbits a little each frame (interacting) or
+// stays; at the end, one line with the frame rate, the sizes and the heaviest passes.
+void EditorApp::measureStep() {
+    // A measurement: the camera orbits a little each frame (interacting) or stays.
+    if (measureInteract_) {
+        camera_.orbit(4.0f, 0.0f);
+        interacting_ = true;
+        lastInteraction_ = Clock::now();
+    }
+    if (--measureLeft_ == 0) {
+        double s = std::chrono::duration<double>(Clock::now() - measureStart_).count();
+        std::printf(
+            "speculum-editor: measure %s: %d frames in %.2f s, %.2f fps, viewport %ux%u, GPU %.1f ms, UI %.2f ms\n",
+            measureInteract_ ? "interacting" : "still", measureFrames_, s, measureFrames_ / s,
+            uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
+        for (const app::PassTime& p : passTimes_)
+            if (p.name.rfind("editor.", 0) == 0)
+                std::printf("speculum-editor:   %-32s %.2f ms\n", p.name.c_str(), p.ms);
+        std::vector<app::PassTime> top = passTimes_;
+        std::sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
+        for (size_t i = 0; i < std::min<size_t>(6, top.size()); ++i)
+            std::printf("speculum-editor:   %-32s %.2f ms\n", top[i].name.c_str(), top[i].ms);
+        std::fflush(stdout);
+    }
+    ++measureFrames_;
 }
 
 int EditorApp::loop() {
@@ -567,28 +622,7 @@ int EditorApp::loop() {
         shortcuts();
         viewportInput(dt);
         if (action) runScriptAction(*action);
-        if (measureLeft_ > 0) {
-            // A measurement: the camera orbits a little each frame (interacting) or stays.
-            if (measureInteract_) {
-                camera_.orbit(4.0f, 0.0f);
-                interacting_ = true;
-                lastInteraction_ = Clock::now();
-            }
-            if (--measureLeft_ == 0) {
-                double s = std::chrono::duration<double>(Clock::now() - measureStart_).count();
-                std::printf("speculum-editor: measure %s: %d frames in %.2f s, %.2f fps, viewport %ux%u, GPU %.1f ms, UI %.2f ms\n",
-                            measureInteract_ ? "interacting" : "still", measureFrames_, s, measureFrames_ / s,
-                            uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
-                for (const app::PassTime& p : passTimes_)
-                    if (p.name.rfind("editor.", 0) == 0) std::printf("speculum-editor:   %-32s %.2f ms\n", p.name.c_str(), p.ms);
-                std::vector<app::PassTime> top = passTimes_;
-                std::sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
-                for (size_t i = 0; i < std::min<size_t>(6, top.size()); ++i)
-                    std::printf("speculum-editor:   %-32s %.2f ms\n", top[i].name.c_str(), top[i].ms);
-                std::fflush(stdout);
-            }
-            ++measureFrames_;
-        }
+        if (measureLeft_ > 0) measureStep();
         ImGui::Render();
         try {
             renderFrame();

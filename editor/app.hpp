@@ -9,6 +9,7 @@
 #include "viewport.hpp"
 
 #include "speculum/app/window.hpp"
+#include "speculum/gpu/resources.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -92,8 +93,11 @@ private:
     void scriptDragGizmo(const nlohmann::json& drag);
     void scriptFail(const std::string& why);
     void renderFrame();
+    void addPresentPasses(FrameGraph& graph, TextureHandle color, const gpu::Buffer* windowShot);
+    void writeWindowShot(const gpu::Buffer& shot, VkExtent2D extent);
     void updateTitle(double fps);
     void adaptInteractiveScale(double frameSeconds);
+    void measureStep();
     void bakeWithProgress();
 
     Options options_;
@@ -106,17 +110,17 @@ private:
     Script script_;
     EditorCamera camera_;
 
-    Rect view_;                  // the viewport's rectangle in the window
-    float scale_ = 1.0f;         // internal resolution / viewport size
-    int interactiveStep_ = 3;    // index into the interactive scales (app.cpp)
+    Rect view_;                // the viewport's rectangle in the window
+    float scale_ = 1.0f;       // internal resolution / viewport size
+    int interactiveStep_ = 3;  // index into the interactive scales (app.cpp)
     int sinceScaleChange_ = 0;
     double interactiveEma_ = 0.0;  // seconds per interactive frame, smoothed
-    bool interacting_ = false;   // camera or gizmo moved this frame
+    bool interacting_ = false;     // camera or gizmo moved this frame
     std::chrono::steady_clock::time_point lastInteraction_{};
     int selectedNode_ = -1;
     std::optional<glm::ivec2> pendingPick_;
     bool pickAddsProbe_ = false;
-    Pick pick_;                  // the last pick (the point "add probe" uses)
+    Pick pick_;  // the last pick (the point "add probe" uses)
     GizmoDrag drag_;
     bool pixelInspector_ = false;
     std::optional<glm::ivec2> inspectPixel_;
@@ -128,8 +132,8 @@ private:
     std::optional<std::filesystem::path> recoverOffer_;
     char saveAsBuffer_[512] = {};
     std::optional<std::pair<int, Material>> materialBefore_;  // a material previewed during a drag
-    std::map<std::string, double> editing_;  // settings previewed during a drag: name -> value before
-    nlohmann::json graph_;                   // the frame graph of a recent frame (refreshed each second)
+    std::map<std::string, double> editing_;                   // settings previewed during a drag: name -> value before
+    nlohmann::json graph_;  // the frame graph of a recent frame (refreshed each second)
     std::vector<app::PassTime> passTimes_;
     double gpuMs_ = 0.0, uiMs_ = 0.0;
     std::chrono::steady_clock::time_point lastAutosave_;

@@ -19,8 +19,8 @@ public:
     void orbit(float dx, float dy);  // pixels of mouse motion
     void pan(float dx, float dy, float viewportHeight);
     void zoom(float wheel);
-    void look(float dx, float dy);                   // rotates about the eye
-    void fly(glm::vec3 localMove, float seconds);   // x right, y up, z forward
+    void look(float dx, float dy);                 // rotates about the eye
+    void fly(glm::vec3 localMove, float seconds);  // x right, y up, z forward
     void frame(glm::vec3 boundsMin, glm::vec3 boundsMax);
     void useNamed(const Camera& camera);
 

@@ -194,16 +194,23 @@ const std::string& Document::redoName() const {
     return redo_.empty() ? none : redo_.back().command.name;
 }
 
-bool Document::dirty() const { return recovered_ || topId() != savedId_; }
+bool Document::dirty() const {
+    return recovered_ || topId() != savedId_;
+}
 
-size_t Document::savedNodeCount() const { return documentNodeCount(scene_); }
+size_t Document::savedNodeCount() const {
+    return documentNodeCount(scene_);
+}
 
-void Document::save() { saveAs(scene_.path); }
+void Document::save() {
+    saveAs(scene_.path);
+}
 
 // The sky is named in scenes[].extras.environment relative to the scene's folder: a scene saved
 // into another folder names it relative to that one. Returns the JSON value to restore.
 static nlohmann::json* environmentEntry(nlohmann::json& doc) {
-    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return nullptr;
+    if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
+        return nullptr;
     size_t active = doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
     if (active >= doc["scenes"].size()) return nullptr;
     nlohmann::json& s = doc["scenes"][active];
@@ -238,8 +245,10 @@ void Document::saveAs(const std::filesystem::path& path) {
     for (const SettingDesc& d : settings_.table())
         if (settings_.get(d.name) != d.defaultValue && all.contains(d.name)) changed[d.name] = all[d.name];
     std::filesystem::path settingsFile = settingsPathFor(path);
-    if (!changed.empty()) writeTextAtomically(settingsFile, changed.dump(2) + "\n");
-    else std::filesystem::remove(settingsFile);
+    if (!changed.empty())
+        writeTextAtomically(settingsFile, changed.dump(2) + "\n");
+    else
+        std::filesystem::remove(settingsFile);
     scene_.path = path;
     savedId_ = topId();
     recovered_ = false;

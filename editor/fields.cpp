@@ -71,18 +71,61 @@ const std::vector<SettingDesc>& materialFields() {
         {"material.base_r", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, red."},
         {"material.base_g", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, green."},
         {"material.base_b", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, blue."},
-        {"reflections.mode", SettingType::Enum, "", 0, 3, 1, {"off", "screen_space", "probes_only", "local_cubemap_only"},
+        {"reflections.mode",
+         SettingType::Enum,
+         "",
+         0,
+         3,
+         1,
+         {"off", "screen_space", "probes_only", "local_cubemap_only"},
          "SPECULUM_reflections mode: off, the whole chain, probes then sky, or local cubemaps only."},
-        {"reflections.roughness_scale", SettingType::Float, "x", 0, 16, 1, {},
+        {"reflections.roughness_scale",
+         SettingType::Float,
+         "x",
+         0,
+         16,
+         1,
+         {},
          "Multiplies the material's roughness for reflections."},
-        {"reflections.has_roughness_override", SettingType::Bool, "", 0, 1, 0, {},
+        {"reflections.has_roughness_override",
+         SettingType::Bool,
+         "",
+         0,
+         1,
+         0,
+         {},
          "Replace the material's roughness for reflections by the override below."},
-        {"reflections.roughness_override", SettingType::Float, "", 0, 1, 0, {},
+        {"reflections.roughness_override",
+         SettingType::Float,
+         "",
+         0,
+         1,
+         0,
+         {},
          "The roughness reflections use when the override is on."},
-        {"reflections.max_screen_space_roughness", SettingType::Float, "", 0, 1, 0.6, {},
+        {"reflections.max_screen_space_roughness",
+         SettingType::Float,
+         "",
+         0,
+         1,
+         0.6,
+         {},
          "Above this roughness, screen-space tracing hands over to the probes and the sky."},
-        {"reflections.trace_cmos", SettingType::Bool, "", 0, 1, 1, {}, "Trace the cubemap objects (CMOs) for this material."},
-        {"reflections.mirror_for_self_reflections", SettingType::Bool, "", 0, 1, 0, {},
+        {"reflections.trace_cmos",
+         SettingType::Bool,
+         "",
+         0,
+         1,
+         1,
+         {},
+         "Trace the cubemap objects (CMOs) for this material."},
+        {"reflections.mirror_for_self_reflections",
+         SettingType::Bool,
+         "",
+         0,
+         1,
+         0,
+         {},
          "The surface is a mirror for CMO self-reflections."},
     };
     return fields;
@@ -107,22 +150,35 @@ double materialField(const Material& m, const std::string& n) {
 
 void setMaterialField(Material& m, const std::string& n, double v) {
     float f = float(v);
-    if (n == "material.metallic") m.metallic = f;
-    else if (n == "material.roughness") m.roughness = f;
-    else if (n == "material.base_r") m.baseColor.r = f;
-    else if (n == "material.base_g") m.baseColor.g = f;
-    else if (n == "material.base_b") m.baseColor.b = f;
+    if (n == "material.metallic")
+        m.metallic = f;
+    else if (n == "material.roughness")
+        m.roughness = f;
+    else if (n == "material.base_r")
+        m.baseColor.r = f;
+    else if (n == "material.base_g")
+        m.baseColor.g = f;
+    else if (n == "material.base_b")
+        m.baseColor.b = f;
     else if (n.rfind("reflections.", 0) == 0) {
         // Editing a reflections field writes the extension (with the effective values).
         MaterialReflections r = reflectionsOf(m);
-        if (n == "reflections.mode") r.mode = ReflectionMode(std::clamp(int(v), 0, 3));
-        else if (n == "reflections.roughness_scale") r.roughnessScale = f;
-        else if (n == "reflections.has_roughness_override") r.roughnessOverride = v != 0.0 ? std::optional<float>(r.roughnessOverride.value_or(0.0f)) : std::nullopt;
-        else if (n == "reflections.roughness_override") r.roughnessOverride = f;
-        else if (n == "reflections.max_screen_space_roughness") r.maxScreenSpaceRoughness = f;
-        else if (n == "reflections.trace_cmos") r.traceCmos = v != 0.0;
-        else if (n == "reflections.mirror_for_self_reflections") r.mirrorForSelfReflections = v != 0.0;
-        else throw std::logic_error("no material field " + n);
+        if (n == "reflections.mode")
+            r.mode = ReflectionMode(std::clamp(int(v), 0, 3));
+        else if (n == "reflections.roughness_scale")
+            r.roughnessScale = f;
+        else if (n == "reflections.has_roughness_override")
+            r.roughnessOverride = v != 0.0 ? std::optional<float>(r.roughnessOverride.value_or(0.0f)) : std::nullopt;
+        else if (n == "reflections.roughness_override")
+            r.roughnessOverride = f;
+        else if (n == "reflections.max_screen_space_roughness")
+            r.maxScreenSpaceRoughness = f;
+        else if (n == "reflections.trace_cmos")
+            r.traceCmos = v != 0.0;
+        else if (n == "reflections.mirror_for_self_reflections")
+            r.mirrorForSelfReflections = v != 0.0;
+        else
+            throw std::logic_error("no material field " + n);
         m.reflections = r;
     } else {
         throw std::logic_error("no material field " + n);
@@ -134,15 +190,48 @@ void setMaterialField(Material& m, const std::string& n, double v) {
 const std::vector<SettingDesc>& probeFields() {
     // engine/scene/EXTENSIONS.md, SPECULUM_reflection_probe.
     static const std::vector<SettingDesc> fields = {
-        {"probe.kind", SettingType::Enum, "", 0, 1, 0, {"local_cubemap", "cmo"}, "A local cubemap, or a cubemap object (CMO) for tracing."},
+        {"probe.kind",
+         SettingType::Enum,
+         "",
+         0,
+         1,
+         0,
+         {"local_cubemap", "cmo"},
+         "A local cubemap, or a cubemap object (CMO) for tracing."},
         {"probe.shape", SettingType::Enum, "", 0, 1, 0, {"box", "sphere"}, "Influence and parallax shape."},
-        {"probe.extents_x", SettingType::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's x (sphere: the radius)."},
+        {"probe.extents_x",
+         SettingType::Float,
+         "m",
+         0.01,
+         100,
+         1,
+         {},
+         "Box half-extent along the node's x (sphere: the radius)."},
         {"probe.extents_y", SettingType::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's y."},
         {"probe.extents_z", SettingType::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's z."},
-        {"probe.blend_distance", SettingType::Float, "m", 0, 10, 0.5, {}, "Width of the fade at the influence's border."},
-        {"probe.resolution", SettingType::Enum, "px", 0, 6, 4, {"8", "16", "32", "64", "128", "256", "512"},
+        {"probe.blend_distance",
+         SettingType::Float,
+         "m",
+         0,
+         10,
+         0.5,
+         {},
+         "Width of the fade at the influence's border."},
+        {"probe.resolution",
+         SettingType::Enum,
+         "px",
+         0,
+         6,
+         4,
+         {"8", "16", "32", "64", "128", "256", "512"},
          "Cubemap face size in texels."},
-        {"probe.update", SettingType::Enum, "", 0, 3, 0, {"once", "on_demand", "every_frame", "time_sliced"},
+        {"probe.update",
+         SettingType::Enum,
+         "",
+         0,
+         3,
+         0,
+         {"once", "on_demand", "every_frame", "time_sliced"},
          "When the probe captures: once at start, when asked, every frame, or one face per frame."},
         {"probe.order", SettingType::Int, "", -100, 100, 0, {}, "Higher wins where probes overlap."},
     };
@@ -163,16 +252,26 @@ double probeField(const ReflectionProbe& p, const std::string& n) {
 }
 
 void setProbeField(ReflectionProbe& p, const std::string& n, double v) {
-    if (n == "probe.kind") p.kind = ProbeKind(std::clamp(int(v), 0, 1));
-    else if (n == "probe.shape") p.shape = ProbeShape(std::clamp(int(v), 0, 1));
-    else if (n == "probe.extents_x") p.extents.x = float(v);
-    else if (n == "probe.extents_y") p.extents.y = float(v);
-    else if (n == "probe.extents_z") p.extents.z = float(v);
-    else if (n == "probe.blend_distance") p.blendDistance = float(v);
-    else if (n == "probe.resolution") p.resolution = 8u << std::clamp(int(v), 0, 6);
-    else if (n == "probe.update") p.update = ProbeUpdate(std::clamp(int(v), 0, 3));
-    else if (n == "probe.order") p.order = int(v);
-    else throw std::logic_error("no probe field " + n);
+    if (n == "probe.kind")
+        p.kind = ProbeKind(std::clamp(int(v), 0, 1));
+    else if (n == "probe.shape")
+        p.shape = ProbeShape(std::clamp(int(v), 0, 1));
+    else if (n == "probe.extents_x")
+        p.extents.x = float(v);
+    else if (n == "probe.extents_y")
+        p.extents.y = float(v);
+    else if (n == "probe.extents_z")
+        p.extents.z = float(v);
+    else if (n == "probe.blend_distance")
+        p.blendDistance = float(v);
+    else if (n == "probe.resolution")
+        p.resolution = 8u << std::clamp(int(v), 0, 6);
+    else if (n == "probe.update")
+        p.update = ProbeUpdate(std::clamp(int(v), 0, 3));
+    else if (n == "probe.order")
+        p.order = int(v);
+    else
+        throw std::logic_error("no probe field " + n);
 }
 
 }  // namespace speculum::editor

@@ -41,11 +41,13 @@ bool EditorApp::project(const render::CameraState& cam, glm::vec3 world, float& 
 
 glm::vec3 EditorApp::handlePosition(const glm::mat4& world, const ReflectionProbe& probe, int handle) const {
     glm::vec3 local(0.0f);
-    if (handle >= 4 && handle <= 6) local[handle - 4] = probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents[handle - 4];
+    if (handle >= 4 && handle <= 6)
+        local[handle - 4] = probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents[handle - 4];
     // The blend handle sits on the inner box's +x+y edge, off the translate gizmo's x axis.
     if (handle == 7) {
         local.x = std::max(0.0f, probe.extents.x - probe.blendDistance);
-        local.y = std::max(0.0f, (probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents.y) - probe.blendDistance);
+        local.y = std::max(
+            0.0f, (probe.shape == ProbeShape::Sphere ? probe.extents.x : probe.extents.y) - probe.blendDistance);
     }
     return glm::vec3(world * glm::vec4(local, 1.0f));
 }
@@ -65,14 +67,16 @@ int EditorApp::hitHandle(const render::CameraState& cam, glm::vec3 origin, float
     };
     for (int a = 0; a < 3; ++a) {
         float ax, ay;
-        if (project(cam, origin + axisVector(a) * len, ax, ay)) consider(a, segmentDistance(mouse, {ox, oy}, {ax, ay}), 7.0f);
+        if (project(cam, origin + axisVector(a) * len, ax, ay))
+            consider(a, segmentDistance(mouse, {ox, oy}, {ax, ay}), 7.0f);
     }
     float px, py;
     if (project(cam, origin + (axisVector(0) + axisVector(2)) * (0.3f * len), px, py))
         consider(3, std::hypot(mouse.x - px, mouse.y - py), 10.0f);
     for (int h = 4; h <= 7; ++h) {
         if (probe.shape == ProbeShape::Sphere && (h == 5 || h == 6)) continue;
-        if (project(cam, handlePosition(world, probe, h), px, py)) consider(h, std::hypot(mouse.x - px, mouse.y - py), 8.0f);
+        if (project(cam, handlePosition(world, probe, h), px, py))
+            consider(h, std::hypot(mouse.x - px, mouse.y - py), 8.0f);
     }
     return hit;
 }
@@ -104,8 +108,8 @@ bool EditorApp::shapeDrag(const render::CameraState& cam, const Node& node, floa
     if (!(p == before)) {
         doc_.execute(setProbe(doc_, selectedNode_, p));
         status_ = "resized " + node.name;
-        std::printf("speculum-editor: resized %s to extents %.4f %.4f %.4f blend %.4f\n", node.name.c_str(), p.extents.x,
-                    p.extents.y, p.extents.z, p.blendDistance);
+        std::printf("speculum-editor: resized %s to extents %.4f %.4f %.4f blend %.4f\n", node.name.c_str(),
+                    p.extents.x, p.extents.y, p.extents.z, p.blendDistance);
     }
     return true;
 }
@@ -156,7 +160,8 @@ bool EditorApp::gizmoInput(const render::CameraState& cam) {
                 return true;
             };
             glm::vec3 a, b;
-            if (hitPlane(drag_.mouseX, drag_.mouseY, a) && hitPlane(mouse.x, mouse.y, b)) drag_.current = drag_.start + (b - a);
+            if (hitPlane(drag_.mouseX, drag_.mouseY, a) && hitPlane(mouse.x, mouse.y, b))
+                drag_.current = drag_.start + (b - a);
         }
         return true;
     }
@@ -197,8 +202,10 @@ void EditorApp::drawOverlays(const render::CameraState& cam) {
                 float hx, hy;
                 if (!project(cam, handlePosition(world, probe, h), hx, hy)) continue;
                 ImU32 c = h == drag_.axis ? IM_COL32(255, 255, 255, 255) : h == 7 ? IM_COL32(255, 150, 60, 230) : color;
-                if (h == 7) dl->AddCircleFilled({hx, hy}, 5.0f, c);
-                else dl->AddRectFilled({hx - 5, hy - 5}, {hx + 5, hy + 5}, c);
+                if (h == 7)
+                    dl->AddCircleFilled({hx, hy}, 5.0f, c);
+                else
+                    dl->AddRectFilled({hx - 5, hy - 5}, {hx + 5, hy + 5}, c);
             }
         if (probe.shape == ProbeShape::Box) {
             // The influence box and, thinner, where the blend toward its border starts.

@@ -69,7 +69,8 @@ void EditorApp::drawMenuBar() {
             std::vector<std::string> views = app::debugViews(m);
             int current = doc_.settings().getInt(m.debugViewSetting);
             for (size_t i = 0; i < views.size(); ++i)
-                if (ImGui::MenuItem(views[i].c_str(), nullptr, int(i) == current)) setSettingValue(m.debugViewSetting, double(i));
+                if (ImGui::MenuItem(views[i].c_str(), nullptr, int(i) == current))
+                    setSettingValue(m.debugViewSetting, double(i));
             ImGui::EndMenu();
         }
         ImGui::EndMenu();
@@ -94,7 +95,8 @@ void EditorApp::drawOutliner() {
         if (n.children.empty()) flags |= ImGuiTreeNodeFlags_Leaf | ImGuiTreeNodeFlags_NoTreePushOnOpen;
         if (i == selectedNode_) flags |= ImGuiTreeNodeFlags_Selected;
         if (n.probe) ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(80, 220, 230, 255));
-        bool open = ImGui::TreeNodeEx(reinterpret_cast<void*>(intptr_t(i)), flags, "%s", nodeLabel(n, size_t(i)).c_str());
+        bool open =
+            ImGui::TreeNodeEx(reinterpret_cast<void*>(intptr_t(i)), flags, "%s", nodeLabel(n, size_t(i)).c_str());
         if (n.probe) ImGui::PopStyleColor();
         if (ImGui::IsItemClicked()) select(i);
         if (open && !n.children.empty()) {
@@ -215,7 +217,8 @@ void EditorApp::drawFrameGraph() {
     }
     double maxMs = 0.0;
     for (const app::PassTime& p : passTimes_) maxMs = std::max(maxMs, p.ms);
-    ImGui::Text("GPU %.1f ms (UI and viewport blit %.2f ms, %.1f%%)", gpuMs_, uiMs_, gpuMs_ > 0 ? 100.0 * uiMs_ / gpuMs_ : 0.0);
+    ImGui::Text("GPU %.1f ms (UI and viewport blit %.2f ms, %.1f%%)", gpuMs_, uiMs_,
+                gpuMs_ > 0 ? 100.0 * uiMs_ / gpuMs_ : 0.0);
     if (graph_.is_object() && graph_.contains("memory")) {
         double with = graph_["memory"].value("transientWithAliasing", 0.0) / 1048576.0;
         double without = graph_["memory"].value("transientWithoutAliasing", 0.0) / 1048576.0;
@@ -237,7 +240,9 @@ void EditorApp::drawFrameGraph() {
             bool aliased = t.contains("placement") && t["placement"].is_object();
             ImGui::Text("%s %sx%s m%s l%s%s", t.value("name", "").c_str(), t["width"].dump().c_str(),
                         t["height"].dump().c_str(), t["mips"].dump().c_str(), t["layers"].dump().c_str(),
-                        t.value("imported", false) ? " imported" : aliased ? (" @" + t["placement"].value("offset", nlohmann::json(0)).dump()).c_str() : "");
+                        t.value("imported", false) ? " imported"
+                        : aliased ? (" @" + t["placement"].value("offset", nlohmann::json(0)).dump()).c_str()
+                                  : "");
         }
     ImGui::Columns(1);
 }

@@ -15,10 +15,25 @@ namespace speculum::editor {
 namespace {
 
 const std::set<std::string>& knownKeys() {
-    static const std::set<std::string> keys = {"click", "drag", "hover", "key", "wait", "set", "material",
-                                               "probe", "action", "select", "camera", "screenshot", "save_as",
-                                               "debug_view", "expect_selected", "measure", "click_node",
-                                               "drag_gizmo", "window_screenshot"};
+    static const std::set<std::string> keys = {"click",
+                                               "drag",
+                                               "hover",
+                                               "key",
+                                               "wait",
+                                               "set",
+                                               "material",
+                                               "probe",
+                                               "action",
+                                               "select",
+                                               "camera",
+                                               "screenshot",
+                                               "save_as",
+                                               "debug_view",
+                                               "expect_selected",
+                                               "measure",
+                                               "click_node",
+                                               "drag_gizmo",
+                                               "window_screenshot"};
     return keys;
 }
 
@@ -39,9 +54,12 @@ Chord parseChord(const std::string& text) {
     std::stringstream ss(text);
     std::string part;
     while (std::getline(ss, part, '+')) {
-        if (part == "ctrl") c.ctrl = true;
-        else if (part == "shift") c.shift = true;
-        else c.key = glfwKey(part);
+        if (part == "ctrl")
+            c.ctrl = true;
+        else if (part == "shift")
+            c.shift = true;
+        else
+            c.key = glfwKey(part);
     }
     return c;
 }

@@ -4,7 +4,8 @@
 // the mouse and the keyboard; the others call what the UI's buttons call.
 //
 //   [{"click": [640, 360]}, {"key": "ctrl+z"}, {"drag": {"from": [600, 300], "to": [650, 300], "frames": 6}},
-//    {"set": "reflections.max_steps", "value": 64}, {"material": "chrome", "field": "material.roughness", "value": 0.3},
+//    {"set": "reflections.max_steps", "value": 64}, {"material": "chrome", "field": "material.roughness", "value":
+//    0.3},
 //    {"click_node": "chrome_sphere"}, {"drag_gizmo": {"axis": 0, "pixels": 60}},
 //    {"action": "add_probe"}, {"screenshot": "out/view.png"}, {"save_as": "out/scene.gltf"}, {"action": "quit"}]
 #pragma once

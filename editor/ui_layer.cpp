@@ -2,9 +2,9 @@
 
 #include "speculum/core.hpp"
 
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
 
 namespace speculum::editor {
 
@@ -123,6 +123,8 @@ TextureHandle UiLayer::addPass(FrameGraph& graph, TextureHandle target) {
     return d.target;
 }
 
-void UiLayer::endFrame() { framebuffers_.clear(); }
+void UiLayer::endFrame() {
+    framebuffers_.clear();
+}
 
 }  // namespace speculum::editor

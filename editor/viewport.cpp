@@ -17,7 +17,9 @@ app::ModuleInfo editorModuleInfo() {
     return info;
 }
 
-std::vector<app::ModuleInfo> hostedModules() { return {probes::moduleInfo(), reflections::moduleInfo()}; }
+std::vector<app::ModuleInfo> hostedModules() {
+    return {probes::moduleInfo(), reflections::moduleInfo()};
+}
 
 Viewport::Viewport(const gpu::Context& ctx, Document& document) : ctx_(ctx), doc_(document) {
     rebuild();
@@ -25,7 +27,9 @@ Viewport::Viewport(const gpu::Context& ctx, Document& document) : ctx_(ctx), doc
     doc_.takeTouched();
 }
 
-Viewport::~Viewport() { vkDeviceWaitIdle(ctx_.device()); }
+Viewport::~Viewport() {
+    vkDeviceWaitIdle(ctx_.device());
+}
 
 void Viewport::rebuild() {
     vkDeviceWaitIdle(ctx_.device());
@@ -57,8 +61,8 @@ void Viewport::sync() {
     for (const SettingDesc& d : doc_.settings().table()) {
         double now = doc_.settings().get(d.name);
         auto it = builtWith_.find(d.name);
-        bool constructionTime = d.name.rfind("render.", 0) == 0 ||
-                                (d.name.rfind("probes.", 0) == 0 && d.name != "probes.debug_view");
+        bool constructionTime =
+            d.name.rfind("render.", 0) == 0 || (d.name.rfind("probes.", 0) == 0 && d.name != "probes.debug_view");
         if (constructionTime && it != builtWith_.end() && it->second != now) rebuildNeeded = true;
     }
     if (rebuildNeeded) {
@@ -184,7 +188,9 @@ Pick Viewport::resolvePick(const app::FrameResult& frame, glm::ivec2 pixel, cons
             glm::vec3 lo = prim.boundsMin - 1e-2f, hi = prim.boundsMax + 1e-2f;
             if (glm::any(glm::lessThan(local, lo)) || glm::any(glm::greaterThan(local, hi))) continue;
             for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
-                auto v = [&](size_t k) { return glm::vec3(inst.world * glm::vec4(prim.vertices[prim.indices[i + k]].position, 1.0f)); };
+                auto v = [&](size_t k) {
+                    return glm::vec3(inst.world * glm::vec4(prim.vertices[prim.indices[i + k]].position, 1.0f));
+                };
                 float d = pointTriangleDistance2(pick.position, v(0), v(1), v(2));
                 if (d < best) {
                     best = d;
@@ -196,6 +202,8 @@ Pick Viewport::resolvePick(const app::FrameResult& frame, glm::ivec2 pixel, cons
     return pick;
 }
 
-std::string Viewport::graphJson() const { return runner_->graphJson().dump(); }
+std::string Viewport::graphJson() const {
+    return runner_->graphJson().dump();
+}
 
 }  // namespace speculum::editor

@@ -32,7 +32,7 @@ struct Pick {
 // A pixel's reflection diagnostics (the pixel inspector).
 struct PixelInfo {
     bool valid = false;
-    glm::vec3 method{0.0f};      // screen space, probes, sky weights
+    glm::vec3 method{0.0f};  // screen space, probes, sky weights
     float iterations = 0.0f;
     float roughness = 0.0f;
     glm::vec3 reflection{0.0f};  // pre-Fresnel radiance

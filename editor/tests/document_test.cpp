@@ -13,17 +13,22 @@
 namespace speculum::editor {
 namespace {
 
-std::filesystem::path gallery() { return std::filesystem::path(SPECULUM_SOURCE_DIR) / "assets/scenes/gallery.gltf"; }
+std::filesystem::path gallery() {
+    return std::filesystem::path(SPECULUM_SOURCE_DIR) / "assets/scenes/gallery.gltf";
+}
 
 std::filesystem::path tmpDir() {
     const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    auto dir = std::filesystem::path(SPECULUM_TEST_TMP) / "editor" / (std::string(test->test_suite_name()) + "." + test->name());
+    auto dir = std::filesystem::path(SPECULUM_TEST_TMP) / "editor" /
+               (std::string(test->test_suite_name()) + "." + test->name());
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
 }
 
-std::vector<SettingDesc> table() { return app::settingsOf({}, {probes::moduleInfo()}); }
+std::vector<SettingDesc> table() {
+    return app::settingsOf({}, {probes::moduleInfo()});
+}
 
 int materialNamed(const Scene& s, const std::string& name) {
     for (size_t i = 0; i < s.materials.size(); ++i)
@@ -85,7 +90,8 @@ TEST(EditorDocument, AddMoveResizeDeleteProbeAndUndoAll) {
     EXPECT_FALSE(doc.dirty());
 
     // Redo all the way gives the deleted state again; undo once more the state before it.
-    while (doc.redo()) {}
+    while (doc.redo()) {
+    }
     EXPECT_EQ(doc.scene().nodes.size(), original.nodes.size());
     EXPECT_TRUE(doc.dirty());
     doc.undo();
@@ -153,8 +159,8 @@ TEST(EditorDocument, SaveLoadCompareAndUnknownContentSurvives) {
     std::filesystem::copy_file(gallery().parent_path() / "gallery.bin", dir / "gallery.bin");
     std::ofstream(dir / "in.gltf") << doc.dump(1);
     std::filesystem::create_directories(dir.parent_path() / "env");
-    std::filesystem::copy_file(gallery().parent_path().parent_path() / "env/sunset.exr", dir.parent_path() / "env/sunset.exr",
-                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(gallery().parent_path().parent_path() / "env/sunset.exr",
+                               dir.parent_path() / "env/sunset.exr", std::filesystem::copy_options::overwrite_existing);
     // The sky is named relative to the scene: save-as into another folder must still find it.
     std::filesystem::create_directories(dir / "elsewhere");
 

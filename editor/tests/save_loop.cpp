@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
         }
         editor::Document doc = editor::Document::open(argv[2], {});
         for (int i = 0;; ++i) {
-            doc.execute(editor::addProbe(doc, "probe.save" + std::to_string(i), {0.0f, 1.0f, float(i)}, ReflectionProbe{}));
+            doc.execute(
+                editor::addProbe(doc, "probe.save" + std::to_string(i), {0.0f, 1.0f, float(i)}, ReflectionProbe{}));
             std::cout << "saving " << i << std::endl;
             doc.save();
             std::cout << "saved " << i << " nodes " << doc.scene().nodes.size() << std::endl;
