@@ -89,6 +89,19 @@ void EditorApp::drawMenuBar() {
 
 void EditorApp::drawOutliner() {
     const Scene& s = doc_.scene();
+    // The scene's named cameras, one click away.
+    float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    for (size_t i = 0; i < s.cameras.size(); ++i) {
+        const Camera& c = s.cameras[i];
+        bool on = camera_.named() == c.name;
+        if (on) ImGui::PushStyleColor(ImGuiCol_Button, ImGui::GetStyleColorVec4(ImGuiCol_ButtonActive));
+        if (ImGui::SmallButton(c.name.c_str())) camera_.useNamed(c);
+        if (on) ImGui::PopStyleColor();
+        // The next button on this line when it fits, else on the next (the row wraps).
+        float next = i + 1 < s.cameras.size() ? ImGui::CalcTextSize(s.cameras[i + 1].name.c_str()).x + 24.0f : 0.0f;
+        if (i + 1 < s.cameras.size() && ImGui::GetItemRectMax().x + next < right) ImGui::SameLine();
+    }
+    ImGui::Separator();
     std::function<void(int)> tree = [&](int i) {
         const Node& n = s.nodes[size_t(i)];
         ImGuiTreeNodeFlags flags = ImGuiTreeNodeFlags_OpenOnArrow | ImGuiTreeNodeFlags_SpanAvailWidth;
@@ -235,14 +248,16 @@ void EditorApp::drawFrameGraph() {
         ImGui::TextUnformatted(p.name.c_str());
     }
     ImGui::NextColumn();
+    // Resources: size, and where aliasing placed a transient in the shared heap.
     if (graph_.is_object() && graph_.contains("textures"))
         for (const auto& t : graph_["textures"]) {
-            bool aliased = t.contains("placement") && t["placement"].is_object();
-            ImGui::Text("%s %sx%s m%s l%s%s", t.value("name", "").c_str(), t["width"].dump().c_str(),
+            std::string where = t.value("imported", false) ? "imported" : "culled";
+            if (t.contains("placement") && t["placement"].is_object())
+                where = std::to_string(t["placement"].value("size", 0ull) >> 10) + " KB @" +
+                        std::to_string(t["placement"].value("offset", 0ull) >> 10) + " KB";
+            ImGui::Text("%s %sx%s m%s l%s  %s", t.value("name", "").c_str(), t["width"].dump().c_str(),
                         t["height"].dump().c_str(), t["mips"].dump().c_str(), t["layers"].dump().c_str(),
-                        t.value("imported", false) ? " imported"
-                        : aliased ? (" @" + t["placement"].value("offset", nlohmann::json(0)).dump()).c_str()
-                                  : "");
+                        where.c_str());
         }
     ImGui::Columns(1);
 }
