@@ -260,6 +260,11 @@ void EditorApp::setSettingValue(const std::string& name, double value) {
     if (doc_.settings().get(name) != value) doc_.execute(setSetting(doc_, name, value));
 }
 
+void EditorApp::setDebugView(const std::string& name, double value) {
+    // A debug view is how the scene is looked at, not part of it: no command, never saved.
+    doc_.mutableSettings().set(name, value);
+}
+
 void EditorApp::setMaterialValue(int material, const std::string& field, double value) {
     Material m = doc_.scene().materials.at(size_t(material));
     if (materialField(m, field) == value) return;
@@ -279,6 +284,18 @@ void EditorApp::setProbeValue(int node, const std::string& field, double value) 
 void EditorApp::runScriptAction(const nlohmann::json& a) {
     auto fail = [this](const std::string& why) { scriptFail(why); };
     try {
+        // Names from the file are checked here: the document's lookups treat unknown names as
+        // programming errors.
+        auto known = [&](const std::vector<SettingDesc>& table, const std::string& name) {
+            return std::any_of(table.begin(), table.end(), [&](const SettingDesc& d) { return d.name == name; });
+        };
+        for (const char* key : {"set", "debug_view"})
+            if (a.contains(key) && !doc_.settings().find(a[key].get<std::string>()))
+                return fail("no setting named " + a[key].dump());
+        if (a.contains("material") && !known(materialFields(), a.value("field", "material.roughness")))
+            return fail("no material field " + a.value("field", std::string()));
+        if (a.contains("probe") && !known(probeFields(), a["probe"].get<std::string>()))
+            return fail("no probe field " + a["probe"].dump());
         if (a.contains("set")) setSettingValue(a["set"].get<std::string>(), a["value"].get<double>());
         if (a.contains("material")) {
             int m = -1;
@@ -299,7 +316,7 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
             if (!c) return fail("no camera " + a["camera"].dump());
             camera_.useNamed(*c);
         }
-        if (a.contains("debug_view")) setSettingValue(a["debug_view"].get<std::string>(), a.value("value", 0.0));
+        if (a.contains("debug_view")) setDebugView(a["debug_view"].get<std::string>(), a.value("value", 0.0));
         if (a.contains("screenshot")) screenshotPath_ = a["screenshot"].get<std::string>();
         if (a.contains("window_screenshot")) windowShotPath_ = a["window_screenshot"].get<std::string>();
         if (a.contains("save_as")) saveAs(a["save_as"].get<std::string>());
@@ -308,6 +325,20 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
             std::string got = selectedNode_ >= 0 ? doc_.scene().nodes[size_t(selectedNode_)].name : "(nothing)";
             std::cout << "speculum-editor: selected " << got << "\n";
             if (got != want) return fail("expected " + want + " selected, got " + got);
+        }
+        if (a.contains("each_debug_view")) {
+            // Every debug view of every hosted module (what the Debug view menu lists), one frame
+            // and one viewport picture each, then back to none.
+            std::filesystem::path dir = a["each_debug_view"].get<std::string>();
+            for (const app::ModuleInfo& m : hostedModules()) {
+                if (m.debugViewSetting.empty()) continue;
+                std::vector<std::string> views = app::debugViews(m);
+                for (size_t i = 0; i < views.size(); ++i)
+                    debugViewQueue_.push_back(
+                        {m.debugViewSetting, double(i), (dir / (m.name + "." + views[i] + ".png")).string()});
+                debugViewQueue_.push_back({m.debugViewSetting, 0.0, ""});
+            }
+            script_.hold(int(debugViewQueue_.size()) + 1);
         }
         if (a.contains("measure")) {
             measureLeft_ = a["measure"].value("frames", 30);
@@ -341,6 +372,8 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
         }
     } catch (const Error& e) {
         fail(e.what());
+    } catch (const nlohmann::json::exception& e) {
+        fail(std::string("an action's values have the wrong type: ") + e.what());
     }
 }
 
@@ -623,6 +656,12 @@ int EditorApp::loop() {
         viewportInput(dt);
         if (action) runScriptAction(*action);
         if (measureLeft_ > 0) measureStep();
+        if (!debugViewQueue_.empty()) {
+            const DebugViewShot& v = debugViewQueue_.front();
+            setDebugView(v.setting, v.value);
+            screenshotPath_ = v.path;
+            debugViewQueue_.erase(debugViewQueue_.begin());
+        }
         ImGui::Render();
         try {
             renderFrame();

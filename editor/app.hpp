@@ -64,6 +64,7 @@ public:
     void select(int node);
     void frameSelection();
     void setSettingValue(const std::string& name, double value);
+    void setDebugView(const std::string& name, double value);
     void setMaterialValue(int material, const std::string& field, double value);
     void setProbeValue(int node, const std::string& field, double value);
 
@@ -137,6 +138,13 @@ private:
     std::vector<app::PassTime> passTimes_;
     double gpuMs_ = 0.0, uiMs_ = 0.0;
     std::chrono::steady_clock::time_point lastAutosave_;
+    // --script each_debug_view: one frame per view, with a viewport picture ("" none).
+    struct DebugViewShot {
+        std::string setting;
+        double value = 0.0;
+        std::string path;
+    };
+    std::vector<DebugViewShot> debugViewQueue_;
     // --script measure: frames left, and the counters.
     int measureLeft_ = 0;
     bool measureInteract_ = false;

@@ -242,8 +242,12 @@ void Document::saveAs(const std::filesystem::path& path) {
     // same file with --settings.
     nlohmann::json changed = nlohmann::json::object();
     nlohmann::json all = settings_.toJson();
+    // Debug views (*.debug_*) are how the scene was looked at: a saved one would turn every
+    // capture of the scene into that view.
     for (const SettingDesc& d : settings_.table())
-        if (settings_.get(d.name) != d.defaultValue && all.contains(d.name)) changed[d.name] = all[d.name];
+        if (settings_.get(d.name) != d.defaultValue && all.contains(d.name) &&
+            d.name.find(".debug_") == std::string::npos)
+            changed[d.name] = all[d.name];
     std::filesystem::path settingsFile = settingsPathFor(path);
     if (!changed.empty())
         writeTextAtomically(settingsFile, changed.dump(2) + "\n");

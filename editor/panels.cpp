@@ -70,7 +70,7 @@ void EditorApp::drawMenuBar() {
             int current = doc_.settings().getInt(m.debugViewSetting);
             for (size_t i = 0; i < views.size(); ++i)
                 if (ImGui::MenuItem(views[i].c_str(), nullptr, int(i) == current))
-                    setSettingValue(m.debugViewSetting, double(i));
+                    setDebugView(m.debugViewSetting, double(i));
             ImGui::EndMenu();
         }
         ImGui::EndMenu();

@@ -15,25 +15,12 @@ namespace speculum::editor {
 namespace {
 
 const std::set<std::string>& knownKeys() {
-    static const std::set<std::string> keys = {"click",
-                                               "drag",
-                                               "hover",
-                                               "key",
-                                               "wait",
-                                               "set",
-                                               "material",
-                                               "probe",
-                                               "action",
-                                               "select",
-                                               "camera",
-                                               "screenshot",
-                                               "save_as",
-                                               "debug_view",
-                                               "expect_selected",
-                                               "measure",
-                                               "click_node",
-                                               "drag_gizmo",
-                                               "window_screenshot"};
+    // clang-format off
+    static const std::set<std::string> keys = {
+        "click", "drag", "hover", "key", "wait", "set", "material", "probe", "action", "select", "camera",
+        "screenshot", "save_as", "debug_view", "expect_selected", "measure", "click_node", "drag_gizmo",
+        "window_screenshot", "each_debug_view"};
+    // clang-format on
     return keys;
 }
 

@@ -173,6 +173,7 @@ TEST(EditorDocument, SaveLoadCompareAndUnknownContentSurvives) {
     d.execute(setMaterial(d, chrome, m));
     d.execute(addProbe(d, "probe.saved", {0.5f, 1.0f, 0.0f}, ReflectionProbe{}));
     d.execute(setSetting(d, "probes.bounces", 2));
+    d.mutableSettings().set("probes.debug_view", 1.0);  // a debug view is never saved
     d.saveAs(dir / "out.gltf");
     EXPECT_FALSE(d.dirty());
     EXPECT_EQ(d.path(), dir / "out.gltf");
@@ -185,6 +186,7 @@ TEST(EditorDocument, SaveLoadCompareAndUnknownContentSurvives) {
               std::filesystem::weakly_canonical(dir.parent_path() / "env/sunset.exr"));
     d.saveAs(dir / "out.gltf");
     EXPECT_EQ(back.settings().getInt("probes.bounces"), 2);
+    EXPECT_EQ(back.settings().getInt("probes.debug_view"), 0);
     EXPECT_EQ(back.scene().document["nodes"][0]["extensions"]["VENDOR_unknown"]["answer"], 42);
     EXPECT_EQ(back.scene().document["materials"][0]["extras"]["artist"], "kept");
     // Undoing past the save makes the document dirty again.
