@@ -584,7 +584,8 @@ void EditorApp::renderFrame() {
             std::filesystem::path out(screenshotPath_);
             if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
             app::writePng(out, result.aovs.at("color"));
-            std::cout << "speculum-editor: viewport " << iw << "x" << ih << " written to " << screenshotPath_ << "\n";
+            std::cout << "speculum-editor: viewport " << iw << "x" << ih << " written to " << screenshotPath_
+                      << " (steady frames " << viewport_->steadyFrames() << ")\n";
         } catch (const std::exception& e) {
             status_ = screenshotPath_ + ": " + e.what();
             std::cerr << "speculum-editor: " << status_ << "\n";

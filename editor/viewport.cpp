@@ -93,11 +93,14 @@ app::FrameResult Viewport::render(const FrameRequest& request, const app::Presen
         width_ = request.camera.width;
         height_ = request.camera.height;
         runner_->resize(width_, height_);
+        steadyFrames_ = 0;
     }
     frame_.previousCamera = frame_.camera;
     frame_.camera = request.camera;
     if (first_ || request.cameraCut) frame_.previousCamera = frame_.camera;
+    if (first_ || request.cameraCut || frame_.camera.viewProj != frame_.previousCamera.viewProj) steadyFrames_ = 0;
     first_ = false;
+    ++steadyFrames_;
 
     std::vector<std::string> aovs;
     if (request.pick) aovs = {"depth", "normal", "pick"};

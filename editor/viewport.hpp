@@ -72,6 +72,10 @@ public:
                             VkSemaphore signal);
     const Pick& lastPick() const { return pick_; }
     const PixelInfo& lastPixel() const { return pixel_; }
+    // Frames rendered with this size and camera since the module was (re)built, this one
+    // included: the reflections' colour history has seen that many frames (a capture with
+    // --warmup steadyFrames()-1 --frames 1 renders the same image).
+    int steadyFrames() const { return steadyFrames_; }
     std::string graphJson() const;
     const std::string& lastError() const { return error_; }
 
@@ -87,6 +91,7 @@ private:
     std::unique_ptr<app::FrameRunner> runner_;
     render::FrameInputs frame_;
     bool first_ = true;
+    int steadyFrames_ = 0;
     bool bakePending_ = true;
     Pick pick_;
     PixelInfo pixel_;

@@ -70,7 +70,7 @@ def main():
     picked = re.search(r"picked chrome_sphere at (\S+ \S+ \S+) normal (\S+ \S+ \S+)", log)
     added = re.search(r"added (\S+) at (\S+ \S+ \S+)", log)
     moved = re.search(r"moved (\S+) to (\S+ \S+ \S+)", log)
-    shot = re.search(r"viewport (\d+)x(\d+) written", log)
+    shot = re.search(r"viewport (\d+)x(\d+) written to \S+ \(steady frames (\d+)\)", log)
     resized = re.search(r"resized \S+ to extents (\S+ \S+ \S+) blend (\S+)", log)
     if not (picked and added and moved and shot and resized):
         print(log[-4000:])
@@ -126,9 +126,12 @@ def main():
         fail("unknown glTF content was lost in the edit-save cycle")
 
     # The saved scene through speculum-capture from the same camera: the editor's viewport.
-    w, h = shot.group(1), shot.group(2)
+    # As many frames as the editor's reflections history had seen at the screenshot (the colour
+    # pyramid reprojects the previous frame: each frame adds a bounce).
+    w, h, steady = shot.group(1), shot.group(2), int(shot.group(3))
     cap = os.path.join(out, "capture")
-    c = subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", "%sx%s" % (w, h), "--warmup", "6",
+    c = subprocess.run([capture, "--scene", scene, "--camera", "main", "--size", "%sx%s" % (w, h),
+                        "--warmup", str(max(0, steady - 1)),
                         "--frames", "1", "--aov", "color", "--out", cap], capture_output=True, text=True, env=env,
                        timeout=900)
     if c.returncode != 0:
