@@ -207,6 +207,10 @@ void EditorApp::drawSettings() {
         if (!open) continue;
         auto e = fieldWidget(d, doc_.settings().get(d.name));
         if (!e) continue;
+        if (d.name.find(".debug_") != std::string::npos) {  // view state, as in the Debug view menu
+            setDebugView(d.name, e->value);
+            continue;
+        }
         if (!e->committed) {
             // Previewed while the slider moves (the modules read settings every frame); one
             // command when it is let go.
