@@ -73,4 +73,18 @@ RendererOptions& Renderer::options() {
     return impl_->options;
 }
 
+void Renderer::updateMaterialFactors() {
+    const Scene& s = impl_->scene;
+    std::vector<GpuMaterial>& gpu = impl_->gpuScene.materials;
+    const uint32_t indexBits = ~((1u << kMaterialIndexShift) - 1u);
+    for (size_t i = 0; i < s.materials.size() && i < gpu.size(); ++i) {
+        const Material& m = s.materials[i];
+        GpuMaterial& g = gpu[i];
+        g.baseColor = m.baseColor;
+        g.metallic = m.metallic;
+        g.roughness = m.roughness;
+        g.flags = (g.flags & indexBits) | (m.unlit ? kFlagUnlit : 0u) | (reflects(m) ? kFlagReflective : 0u);
+    }
+}
+
 }  // namespace speculum::render

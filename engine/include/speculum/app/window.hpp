@@ -46,6 +46,11 @@ public:
     VkSemaphore acquired() const { return acquired_[frame_]; }
     VkSemaphore rendered() const { return rendered_[image_]; }
     VkExtent2D extent() const { return extent_; }
+    // For hosts that present with passes of their own (the editor draws its UI over the image).
+    VkImage image() const { return images_[image_]; }
+    VkFormat format() const { return format_; }
+    uint32_t imageCount() const { return uint32_t(images_.size()); }
+    VkImageUsageFlags usage() const { return usage_; }
 
 private:
     void create();
@@ -56,6 +61,7 @@ private:
     VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
     VkFormat format_ = VK_FORMAT_B8G8R8A8_UNORM;
     VkExtent2D extent_{};
+    VkImageUsageFlags usage_ = 0;
     std::vector<VkImage> images_;
     std::vector<VkSemaphore> acquired_;
     std::vector<VkSemaphore> rendered_;

@@ -102,6 +102,11 @@ public:
     // render.tonemap: exposure, ACES fit, sRGB encode into an RGBA8 image.
     TextureHandle addTonemapPass(FrameGraph& graph, TextureHandle linear);
 
+    // Re-reads the scene's material factors (base colour, metallic, roughness, whether it
+    // reflects) for the frames recorded from now on: the editor's sliders move them live.
+    // Textures, emissive and alpha stay as uploaded.
+    void updateMaterialFactors();
+
     const Environment& environment() const;
     const Scene& scene() const;
     RendererOptions& options();
