@@ -10,16 +10,6 @@ namespace speculum::editor {
 
 namespace {
 
-glm::mat4 localMatrix(const Node& n) {
-    if (n.matrix) return *n.matrix;
-    glm::mat4 m = glm::mat4_cast(n.rotation);
-    m[0] *= n.scale.x;
-    m[1] *= n.scale.y;
-    m[2] *= n.scale.z;
-    m[3] = glm::vec4(n.translation, 1.0f);
-    return m;
-}
-
 size_t documentNodeCount(const Scene& scene) {
     const nlohmann::json& doc = scene.document;
     if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return 0;

@@ -85,16 +85,6 @@ void linkAndCheckCycles(Scene& scene, const json& nodes, const Reader& r) {
     }
 }
 
-glm::mat4 localMatrix(const Node& n) {
-    if (n.matrix) return *n.matrix;
-    glm::mat4 m = glm::mat4_cast(n.rotation);
-    m[0] *= n.scale.x;
-    m[1] *= n.scale.y;
-    m[2] *= n.scale.z;
-    m[3] = glm::vec4(n.translation, 1.0f);
-    return m;
-}
-
 // A camera-to-world matrix must be rigid, or view matrices shear; node scale is dropped.
 glm::mat4 rigid(const glm::mat4& m) {
     glm::mat4 out = m;
@@ -220,3 +210,17 @@ void resolveScene(Scene& scene, const json& /*doc*/, const Document& d, const Re
 }
 
 }  // namespace speculum::gltf
+
+namespace speculum {
+
+glm::mat4 localMatrix(const Node& n) {
+    if (n.matrix) return *n.matrix;
+    glm::mat4 m = glm::mat4_cast(n.rotation);
+    m[0] *= n.scale.x;
+    m[1] *= n.scale.y;
+    m[2] *= n.scale.z;
+    m[3] = glm::vec4(n.translation, 1.0f);
+    return m;
+}
+
+}  // namespace speculum

@@ -23,13 +23,17 @@ using uint = uint32_t;
 #define SPECULUM_REFLECTION_FRAME_END rf
 #endif
 
-SPECULUM_REFLECTION_FRAME_BEGIN {
-    mat4 viewProj;
-    mat4 invViewProj;
-    mat4 prevViewProj;
-    mat4 view;
-    vec3 eye;
+// The leading fields, which the shaders also read as the uniform block `rfm` below (one list).
+#define SPECULUM_REFLECTION_FRAME_MATRICES \
+    mat4 viewProj;                          \
+    mat4 invViewProj;                       \
+    mat4 prevViewProj;                      \
+    mat4 view;                              \
+    vec3 eye;                               \
     float znear;
+
+SPECULUM_REFLECTION_FRAME_BEGIN {
+    SPECULUM_REFLECTION_FRAME_MATRICES
     vec4 size;  // width, height, 1 / width, 1 / height
     // Hi-Z and linear tracing.
     float maxIterations;
@@ -80,12 +84,7 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
 // 362 ms, modules/reflections/MEASUREMENTS.md). Its leak (issue 15) comes from uniform values
 // that steer branches, which stay in the storage buffer `rf`: hardening.memory_flat guards it.
 layout(set = 0, binding = 15, std140) uniform ReflectionMatrices {
-    mat4 viewProj;
-    mat4 invViewProj;
-    mat4 prevViewProj;
-    mat4 view;
-    vec3 eye;
-    float znear;
+    SPECULUM_REFLECTION_FRAME_MATRICES
 } rfm;
 #endif
 

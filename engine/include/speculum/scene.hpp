@@ -149,6 +149,9 @@ struct Node {
     glm::mat4 world{1.0f};  // resolved
 };
 
+// A node's transform relative to its parent: its matrix when the file gave one, else T * R * S.
+glm::mat4 localMatrix(const Node& node);
+
 // A mesh placed in the world: what the renderer draws.
 struct Instance {
     int node = -1;
