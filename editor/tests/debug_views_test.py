@@ -8,9 +8,11 @@ debug_views_test.py EDITOR SOURCE_DIR OUT_DIR
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from editor_test_support import copy_gallery  # noqa: E402
 
 
 def fail(msg):
@@ -26,13 +28,7 @@ def differs(a, b):
 
 def main():
     editor, source, out = sys.argv[1:4]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(os.path.join(out, "scenes"))
-    os.makedirs(os.path.join(out, "env"))
-    shutil.copy(os.path.join(source, "assets/env/sunset.exr"), os.path.join(out, "env"))
-    for f in ("gallery.gltf", "gallery.bin"):
-        shutil.copy(os.path.join(source, "assets/scenes", f), os.path.join(out, "scenes"))
-    scene = os.path.join(out, "scenes", "gallery.gltf")
+    scene = copy_gallery(source, out)
     plain = os.path.join(out, "plain.png")
     views = os.path.join(out, "views")
     script = [{"camera": "main"}, {"wait": 2}, {"screenshot": plain}, {"each_debug_view": views},

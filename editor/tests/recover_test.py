@@ -7,9 +7,11 @@ recover_test.py EDITOR SOURCE_DIR OUT_DIR
 """
 import json
 import os
-import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from editor_test_support import copy_gallery  # noqa: E402
 
 
 def fail(msg):
@@ -32,13 +34,7 @@ def run(editor, scene, script, out, name, extra=()):
 
 def main():
     editor, source, out = sys.argv[1:4]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(os.path.join(out, "scenes"))
-    os.makedirs(os.path.join(out, "env"))
-    shutil.copy(os.path.join(source, "assets/env/sunset.exr"), os.path.join(out, "env"))
-    for f in ("gallery.gltf", "gallery.bin"):
-        shutil.copy(os.path.join(source, "assets/scenes", f), os.path.join(out, "scenes"))
-    scene = os.path.join(out, "scenes", "gallery.gltf")
+    scene = copy_gallery(source, out)
     side = os.path.join(out, "scenes", "gallery.autosave.glb")
     before = open(scene, "rb").read()
 

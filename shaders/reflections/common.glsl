@@ -74,6 +74,10 @@ ivec2 guidePixel(ivec2 halfPixel, vec4 guide) {
     return min(halfPixel * 2 + ivec2(i & 1, i >> 1), ivec2(rf.size.xy) - 1);
 }
 
+// method.a for reflections of the sky (resolve.comp writes it, temporal.comp reprojects such
+// reflections by direction): the largest half float, exact in the RGBA16F method image.
+const float kSkyDistance = 65504.0;
+
 bool finite3(vec3 v) {
     return !any(isnan(v)) && !any(isinf(v));
 }

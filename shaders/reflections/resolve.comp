@@ -33,9 +33,8 @@ layout(constant_id = 0) const uint kHalf = 0u;
 layout(constant_id = 1) const uint kStochastic = 0u;
 
 // The reflected distance the temporal pass reprojects by (method.a): the screen-space hit's
-// when screen space covers most, the probes' proxy distance when they do, the sky's (65504, the
-// largest half float: a direction) when the sky does; 0: unknown (reproject by the surface).
-const float kSkyDistance = 65504.0;
+// when screen space covers most, the probes' proxy distance when they do, kSkyDistance
+// (common.glsl: a direction) when the sky does; 0: unknown (reproject by the surface); see main.
 
 // tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
 // acos and tan cost a polynomial each per lane on a CPU driver.

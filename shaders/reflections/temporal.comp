@@ -32,7 +32,6 @@ layout(set = 0, binding = 10) uniform sampler2D historyDepth;   // texelFetch
 layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D accumulatedOut;
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D normalOut;
 
-const float kSkyDistance = 65000.0;  // method.a at or above: the sky, a direction
 
 bool insideUV(vec2 uv) {
     return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)));
