@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""placement.unit: speculum-probes place without a GPU: material weights, candidate generation on
+the test room (off the surfaces, outside geometry, spread apart, ranked by reflected area), the
+glTF edit (CMO nodes appended, unknown content kept, file references that still resolve), atomic
+writes and the argument checks (exit 2 and 3 before anything renders)."""
+import contextlib
+import io
+import json
+import math
+import os
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent))
+import placement_scene  # noqa: E402
+import speculum_probes as sp  # noqa: E402
+
+SPHERE_C, SPHERE_R = (0.0, 0.6, -0.6), 0.6
+
+
+class Scene(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.dir = Path(cls.tmp.name)
+        cls.path = placement_scene.write_scene(cls.dir / "scene")
+        cls.doc, cls.buffers, _ = sp.load_document(cls.path)
+        cls.geo = sp.Geometry(cls.doc, cls.buffers, str(cls.path))
+        cls.views = sp.cameras(cls.doc)
+        cls.samples, cls.sky = sp.reflection_samples(cls.geo, cls.doc, cls.views, (160, 90), grid=32)
+        cls.cands = sp.candidates(cls.geo, cls.samples, max_candidates=10)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+
+class Candidates(Scene):
+    def test_material_weights(self):
+        w = sp.material_weight
+        self.assertEqual(w({"extensions": {"KHR_materials_unlit": {}}}), 0.0)
+        self.assertEqual(w({"extensions": {"SPECULUM_reflections": {"mode": "off"}}}), 0.0)
+        self.assertEqual(w({"extensions": {"SPECULUM_reflections": {"traceCmos": False}}}), 0.0)
+        chrome = w({"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.0}})
+        floor = w({"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.08}})
+        rough = w({"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.9}})
+        self.assertGreater(chrome, floor)
+        self.assertGreater(floor, rough)
+        self.assertEqual(w({}), 0.0, "glTF defaults (metal, roughness 1) matter too little")
+        overridden = w({"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 1.0},
+                        "extensions": {"SPECULUM_reflections": {"roughnessOverride": 0.0}}})
+        self.assertAlmostEqual(overridden, 1.0)
+
+    def test_geometry_and_camera(self):
+        self.assertEqual([v[0] for v in self.views], ["main"])
+        self.assertGreater(len(self.geo.tris), 1000)
+        # a ray straight down from the room's middle meets the floor at y = 0
+        t, tri = self.geo.cast((1.5, 1.0, 1.5), (0.0, -1.0, 0.0))
+        self.assertAlmostEqual(t, 1.0, places=4)
+        self.assertTrue(self.geo.inside((0.0, 0.6, -0.6)), "the sphere's centre is inside it")
+        self.assertFalse(self.geo.inside((1.5, 1.5, 1.5)), "the room's air is not inside anything")
+
+    def test_samples_hit_the_reflectors(self):
+        self.assertGreater(len(self.samples), 100)
+        self.assertEqual(self.sky, 0.0, "a closed room reflects no sky")
+        on_sphere = [s for s in self.samples if abs(sp.dist(s["p"], SPHERE_C) - SPHERE_R) < 0.02]
+        self.assertTrue(on_sphere, "the chrome sphere is sampled")
+        self.assertGreater(max(s["w"] for s in on_sphere), max(s["w"] for s in self.samples if s["p"][1] < 1e-3),
+                           "chrome weighs more than the glossy floor")
+
+    def test_candidates_are_near_reflectors_off_the_surface_and_spread(self):
+        self.assertGreaterEqual(len(self.cands), 2)
+        offset = min(max(0.04 * self.geo.diagonal, 0.05), 0.6)
+        for c in self.cands:
+            p = c["pos"]
+            self.assertTrue(all(-3.0 < p[k] < 3.0 for k in (0, 2)) and 0.0 < p[1] < 3.0, f"outside the room: {p}")
+            self.assertGreater(sp.dist(p, SPHERE_C), SPHERE_R + 0.02, f"inside or on the sphere: {p}")
+            self.assertGreater(p[1], 0.02, f"on the floor: {p}")
+            self.assertFalse(self.geo.inside(p))
+            gap = sp.dist(p, c["surface"])
+            self.assertTrue(0.0 < gap <= offset * 1.0001, f"offset {gap} from its reflector")
+            self.assertGreater(c["area"], 0.0)
+            self.assertGreater(c["radius"], 0.0)
+        for i, a in enumerate(self.cands):
+            for b in self.cands[i + 1:]:
+                self.assertGreaterEqual(sp.dist(a["pos"], b["pos"]), offset * 0.999, "candidates not spread apart")
+        # ranked by a greedy cover: the first sees at least as much as any other
+        self.assertEqual([c["rank"] for c in self.cands], list(range(len(self.cands))))
+        self.assertGreaterEqual(self.cands[0]["area"], max(c["area"] for c in self.cands) - 1e-9)
+        gains = [c["gain"] for c in self.cands]
+        self.assertEqual(gains, sorted(gains, reverse=True))
+
+    def test_place_off_surface_refuses_inside_and_cramped(self):
+        # from the sphere's top along the inward normal: the point would be inside the sphere
+        self.assertIsNone(sp.place_off_surface(self.geo, (0.0, 1.2, -0.6), (0.0, -1.0, 0.0), 0.3, 0.05))
+        # from the floor toward the sphere 0.02 m above it: too cramped
+        self.assertIsNone(sp.place_off_surface(self.geo, (0.0, -0.02, -0.6), (0.0, 1.0, 0.0), 0.3, 0.05))
+        c = sp.place_off_surface(self.geo, (2.0, 0.0, 2.0), (0.0, 1.0, 0.0), 0.3, 0.05)
+        self.assertAlmostEqual(c[1], 0.3, places=6)
+        # toward a wall 0.2 m away: shortened to half the gap, off the wall
+        c = sp.place_off_surface(self.geo, (2.8, 0.5, 0.0), (1.0, 0.0, 0.0), 0.5, 0.05)
+        self.assertIsNotNone(c)
+        self.assertLess(c[0], 3.0 - 0.05)
+
+
+class Edit(Scene):
+    CMOS = [{"pos": (0.1, 1.2, 0.3), "res": 64, "order": 1, "radius": 2.5},
+            {"pos": (-1.0, 0.4, 1.0), "res": 32, "order": 0, "radius": 0.0}]
+
+    def test_nodes_appended_unknown_content_kept(self):
+        before = json.loads(json.dumps(self.doc))
+        out = sp.edited_document(self.doc, self.CMOS, str(self.path.parent), str(self.path.parent))
+        self.assertEqual(self.doc, before, "the source document is not modified")
+        n = len(before["nodes"])
+        self.assertEqual(out["nodes"][:n], before["nodes"])
+        self.assertEqual([x["name"] for x in out["nodes"][n:]], ["cmo.0", "cmo.1"])
+        roots = out["scenes"][out.get("scene", 0)]["nodes"]
+        self.assertEqual(roots[:-2], before["scenes"][0]["nodes"])
+        self.assertEqual(roots[-2:], [n, n + 1])
+        e = out["nodes"][n]["extensions"][sp.PROBE_EXT]
+        self.assertEqual(e, {"kind": "cmo", "resolution": 64, "order": 1, "update": "once", "shape": "sphere",
+                             "extents": [2.5, 2.5, 2.5], "blendDistance": 0.0})
+        self.assertTrue(all(x > 0 for x in out["nodes"][n + 1]["extensions"][sp.PROBE_EXT]["extents"]))
+        self.assertEqual(out["extensions"][placement_scene.UNKNOWN_EXT], before["extensions"][placement_scene.UNKNOWN_EXT])
+        self.assertEqual(out["extras"], {"author": "placement test"})
+        self.assertIn(placement_scene.UNKNOWN_EXT, out["extensionsUsed"])
+        self.assertEqual(out["extensionsUsed"].count(sp.PROBE_EXT), 1)
+        for key in before:
+            if key not in ("nodes", "scenes", "extensionsUsed"):
+                self.assertEqual(out[key], before[key], key)
+        # again on its own output: the extension is listed once, names do not clash
+        again = sp.edited_document(out, self.CMOS[:1], str(self.path.parent), str(self.path.parent))
+        self.assertEqual(again["extensionsUsed"].count(sp.PROBE_EXT), 1)
+        self.assertEqual(again["nodes"][-1]["name"], "cmo.2")
+
+    def test_file_references_follow_the_output(self):
+        other = self.dir / "elsewhere" / "deeper"
+        other.mkdir(parents=True, exist_ok=True)
+        out = sp.edited_document(self.doc, self.CMOS, str(self.path.parent), str(other))
+        bin_uri = out["buffers"][0]["uri"]
+        self.assertEqual(bin_uri, "../../scene/placement_room.bin")
+        self.assertTrue((other / bin_uri).resolve() == (self.path.parent / self.doc["buffers"][0]["uri"]).resolve())
+        env = out["scenes"][0]["extras"]["environment"]
+        self.assertTrue(os.path.isfile(os.path.join(str(other), env)), env)
+        same = sp.edited_document(self.doc, [], str(self.path.parent), str(self.path.parent))
+        self.assertEqual(same, self.doc, "no CMO and the same folder: the document is unchanged")
+        self.assertEqual(sp.relocate_uri("a%20b.bin", "/x/s", "/x/t"), "../s/a%20b.bin")
+        self.assertEqual(sp.relocate_uri("data:application/octet-stream;base64,AAAA", "/x", "/y"),
+                         "data:application/octet-stream;base64,AAAA")
+
+    def test_write_atomic(self):
+        target = self.dir / "atomic.gltf"
+        sp.write_atomic(target, text="{}\n")
+        sp.write_atomic(target, text='{"a": 1}\n')
+        self.assertEqual(json.loads(target.read_text()), {"a": 1})
+        self.assertEqual([p.name for p in self.dir.iterdir() if p.name.startswith(".atomic")], [])
+
+
+class Arguments(Scene):
+    def run_cli(self, *argv):
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+            code = sp.main(["--capture", "/bin/true", "--reference", "/bin/true", "--metrics", "/bin/true", "place",
+                            *argv])
+        return code, err.getvalue()
+
+    def base(self, **over):
+        a = {"--scene": str(self.path), "--budget-db": "20", "--out": str(self.dir / "o.gltf")}
+        a.update(over)
+        return [x for k, v in a.items() if v is not None for x in (k, v)]
+
+    def test_bad_input(self):
+        cases = [
+            ({"--budget-db": "nan"}, 2, "finite"),
+            ({"--budget-db": "inf"}, 2, "finite"),
+            ({"--budget-db": "twenty"}, 2, "not a number"),
+            ({"--size": "160by90"}, 2, "WxH"),
+            ({"--resolutions": "48,128"}, 2, "power of two"),
+            ({"--resolutions": "16"}, 2, "power of two"),
+            ({"--max-cmos": "0"}, 2, "at least 1"),
+            ({"--out": str(self.dir)}, 2, ".gltf"),
+            ({"--out": str(self.dir / "x.glb")}, 2, ".gltf"),
+            ({"--out": str(self.dir / "no" / "such" / "o.gltf")}, 2, "does not exist"),
+            ({"--scene": str(self.dir / "missing.gltf")}, 3, "missing.gltf: no such file"),
+            ({"--scene": str(self.dir)}, 3, "is a folder"),
+            ({"--scene": "/dev/zero"}, 3, "not a regular file"),
+            ({"--views": "main,nobody"}, 2, "no camera named 'nobody'"),
+        ]
+        for over, code, text in cases:
+            got, err = self.run_cli(*self.base(**over))
+            self.assertEqual(got, code, f"{over}: {err}")
+            self.assertIn(text, err, over)
+            self.assertEqual(len(err.strip().splitlines()), 1, f"one line: {err}")
+        folder = self.dir / "a_folder.gltf"
+        folder.mkdir(exist_ok=True)
+        got, err = self.run_cli(*self.base(**{"--out": str(folder)}))
+        self.assertEqual(got, 2, err)
+
+    def test_no_camera(self):
+        doc = json.loads(self.path.read_text())
+        for n in doc["nodes"]:
+            n.pop("camera", None)
+        bad = self.path.parent / "nocam.gltf"
+        bad.write_text(json.dumps(doc))
+        got, err = self.run_cli(*self.base(**{"--scene": str(bad)}))
+        self.assertEqual(got, 3, err)
+        self.assertIn("no camera", err)
+        broken = self.path.parent / "broken.gltf"
+        broken.write_text("{ not json")
+        got, err = self.run_cli(*self.base(**{"--scene": str(broken)}))
+        self.assertEqual((got, "broken.gltf" in err), (3, True), err)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
