@@ -762,6 +762,8 @@ def place(args, tools, log):
                             False, cur["mean"])
                 if best_r is None or r["mean"] > best_r["mean"]:
                     best, best_r, best_step = trial, r, st
+                if meets(r):
+                    break  # the fewest CMOs is reached: no need to try the others
             if best_r["mean"] < cur["mean"] + IMPROVE_DB:
                 log(f"placement: no candidate improves on {cur['mean']:.2f} dB; stopping at {len(current)} CMOs")
                 break
