@@ -215,5 +215,71 @@ class Arguments(Scene):
         self.assertEqual((got, "broken.gltf" in err), (3, True), err)
 
 
+class Loop(Scene):
+    """The greedy loop against a synthetic measurer: each candidate adds a fixed gain, scaled
+    down at lower resolutions, so the right answer is known."""
+
+    def run_loop(self, budget, max_cmos=3, tries=3):
+        gains = {0: 3.0, 1: 2.0}
+        factor = {128: 1.0, 64: 0.9, 32: 0.6}
+        calls = []
+
+        class FakeMeasurer:
+            def __init__(self, *a, **k):
+                self.count = 0
+
+            def key(self, cmos):
+                return json.dumps([[list(c["pos"]), c["res"], c["order"]] for c in cmos])
+
+            def measure(self, cmos):
+                self.count += 1
+                calls.append(cmos)
+                mean = 10.0 + sum(gains.get(c["rank"], 0.3) * factor[c["res"]] for c in cmos)
+                return {"mean": mean, "per_view": {"main": mean}, "ms": 1.0 + len(cmos), "seconds": 0.0}
+
+        real_m, real_p = sp.Measurer, sp.probe_capture
+        sp.Measurer, sp.probe_capture = FakeMeasurer, lambda *a: None
+        out = self.dir / f"loop{budget}.gltf"
+        try:
+            with contextlib.redirect_stdout(io.StringIO()) as log:
+                code = sp.main(["--capture", "/bin/true", "--reference", "/bin/true", "--metrics", "/bin/true",
+                                "place", "--scene", str(self.path), "--budget-db", str(budget), "--out", str(out),
+                                "--max-cmos", str(max_cmos), "--tries", str(tries), "--move-tries", "0",
+                                "--resolutions", "32,64,128", "--size", "160x90", "--grid", "32"])
+        finally:
+            sp.Measurer, sp.probe_capture = real_m, real_p
+        report = json.loads(out.with_name(out.stem + ".placement.json").read_text())
+        return code, report, json.loads(out.read_text()), log.getvalue()
+
+    def test_fewest_lowest_ordered(self):
+        code, rep, doc, log = self.run_loop(14.0)
+        self.assertEqual(code, 0, log)
+        final = rep["final"]
+        self.assertEqual(final["count"], 2)
+        by_rank = {c["candidate"]: c for c in final["cmos"]}
+        self.assertEqual(set(by_rank), {0, 1})
+        # the smaller contributor is lowered first, as far as the budget allows; then the other stops
+        self.assertEqual((by_rank[0]["resolution"], by_rank[1]["resolution"]), (128, 32))
+        self.assertGreater(by_rank[0]["order"], by_rank[1]["order"], "the larger contribution is traced first")
+        self.assertGreaterEqual(final["mean_psnr_db"], 14.0)
+        nodes = [n for n in doc["nodes"] if sp.PROBE_EXT in n.get("extensions", {})]
+        self.assertEqual(sorted(n["extensions"][sp.PROBE_EXT]["resolution"] for n in nodes), [32, 128])
+        self.assertIn("placement: step 2/", log)
+        self.assertIn("budget met", log)
+
+    def test_baseline_meets_budget_adds_nothing(self):
+        code, rep, doc, log = self.run_loop(9.0)
+        self.assertEqual((code, rep["final"]["count"]), (0, 0), log)
+        self.assertNotIn(sp.PROBE_EXT, doc.get("extensionsUsed", []))
+
+    def test_unreachable_budget_writes_best_and_fails(self):
+        code, rep, doc, log = self.run_loop(30.0, max_cmos=2)
+        self.assertEqual(code, 1, log)
+        self.assertFalse(rep["met"])
+        self.assertEqual(rep["final"]["count"], 2)
+        self.assertAlmostEqual(rep["final"]["mean_psnr_db"], 15.0)
+        self.assertIn("NOT met", log)
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
