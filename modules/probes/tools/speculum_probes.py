@@ -684,13 +684,12 @@ def config_entry(cmos):
              "candidate": c.get("rank")} for c in cmos]
 
 
-def place(args, tools, log):
-    src = Path(args.scene)
-    doc, buffers, glb_bin = load_document(src)
+def resolve_views(args, doc, src):
+    """The views' names and cameras; InputError for an unknown name or a scene without cameras."""
     cams = cameras(doc)
     names = [c[0] for c in cams]
     if args.views:
-        view_names = [v.strip() for v in args.views.split(",") if v.strip()]
+        view_names = list(dict.fromkeys(v.strip() for v in args.views.split(",") if v.strip()))
         if not view_names:
             raise InputError("--views: no camera name given", 2)
         for v in view_names:
@@ -701,6 +700,13 @@ def place(args, tools, log):
             raise InputError(f"{src}: the scene has no camera and no --views was given", 3)
         view_names = names
     views = [c for c in cams if c[0] in view_names]
+    return view_names, views
+
+
+def place(args, tools, log):
+    src = Path(args.scene)
+    doc, buffers, glb_bin = load_document(src)
+    view_names, views = resolve_views(args, doc, src)
     t_start = time.monotonic()
     geo = Geometry(doc, buffers, str(src))
     if not geo.tris:
@@ -1019,7 +1025,8 @@ def main(argv=None):
                 raise InputError(f"{tool}: not built (run the wrapper in the build folder)", 2)
         if args.cache is None:
             args.cache = args.cache_default or str(Path(args.out).resolve().parent / ".placement-cache")
-        load_document(args.scene)  # the scene's own problems first, before any device starts
+        doc = load_document(args.scene)[0]  # the scene's own problems first, before any device starts
+        resolve_views(args, doc, Path(args.scene))
         probe_capture(args, args)
         return place(args, args, lambda line: print(line, flush=True))
     except InputError as e:
