@@ -96,7 +96,7 @@ StaticLighting buildStaticLighting(const Scene& scene, const ShadowSetup& shadow
 
 // lighting.frag's specialization constants: the light counts (ids 0, 1), the irradiance SH
 // rgb from id 2, light i's four vec4 from id 32 + 16 i (floats as their bits).
-std::vector<uint32_t> lightingConstants(const StaticLighting& s) {
+std::vector<uint32_t> specializationOf(const StaticLighting& s) {
     constexpr size_t kShId = 2, kLightsId = 32;
     std::vector<uint32_t> c(kLightsId + sizeof(s.lights) / sizeof(float), 0u);
     c[0] = s.directional;
@@ -116,7 +116,8 @@ void Renderer::Impl::createLightingResources() {
     for (uint32_t b = 0; b < 7; ++b)
         d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.pushConstantBytes = sizeof(LightingConstants);
-    d.fragmentConstants = lightingConstants(data);
+    lightingSpecialization = specializationOf(data);
+    d.fragmentConstants = lightingSpecialization;
     lightingPipeline = gpu::createGraphicsPipeline(ctx, d);
     sceneShadow = gpu::uploadBuffer(ctx, std::as_bytes(std::span(&data.shadow, 1)),
                                     VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "render.scene_shadow");

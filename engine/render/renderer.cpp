@@ -63,6 +63,7 @@ Renderer::Renderer(const gpu::Context& ctx, const Scene& scene, const RendererOp
 
 Renderer::~Renderer() = default;
 
+const std::vector<uint32_t>& Renderer::lightingConstants() const { return impl_->lightingSpecialization; }
 const Environment& Renderer::environment() const {
     return *impl_->environment;
 }

@@ -88,6 +88,7 @@ struct Renderer::Impl {
     gpu::Pipeline prepassPipelines[3];
     gpu::Pipeline gbufferPipelines[2][3];  // [GpuMaterial::untextured][CullKind]
     gpu::Pipeline lightingPipeline;
+    std::vector<uint32_t> lightingSpecialization;  // lighting.frag's constants (scene_lights.glsl)
     gpu::Pipeline tonemapPipeline;
 
     Impl(const gpu::Context& c, const Scene& s, const RendererOptions& o);

@@ -19,30 +19,18 @@ struct BouncePush {
 };
 static_assert(sizeof(BouncePush) == 96);
 
-TextureDesc descOf(const gpu::Image& image) {
-    const gpu::ImageDesc& d = image.desc();
-    return {.width = d.width, .height = d.height, .format = d.format, .mips = d.mips, .layers = d.layers, .cube = d.cube};
-}
-
 }  // namespace
 
-void Probes::Impl::captureFace(size_t index, uint32_t face) {
-    const ProbeInfo& info = probes[index];
-    const uint32_t res = info.probe.resolution;
-    FrameGraph fg(FrameGraphConfig{res, res});
-    render::FrameInputs frame;
-    frame.camera = frame.previousCamera = faceCamera(glm::vec3(info.gpu.center), face, res);
-    render::GBuffer g = renderer.addGBufferPasses(fg, frame);
+Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res) {
+    CaptureFace c;
+    c.frame.camera = c.frame.previousCamera = faceCamera(center, face, res);
+    c.g = renderer.addGBufferPasses(fg, c.frame);
     // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
-    TextureHandle lit = renderer.addLightingPass(fg, frame, g, {.moduleSpecular = true});
+    TextureHandle lit = renderer.addLightingPass(fg, c.frame, c.g, {.moduleSpecular = true});
     TextureHandle array = fg.importTexture("probes.cubes", descOf(cubes),
                                            {cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cubes.desc().usage});
     BufferHandle recs = fg.importBuffer("probes.records", {records.size()}, {records.get()});
-    const gpu::Image& target = radiance[index];
-    TextureHandle cube = fg.importTexture("probes.radiance", descOf(target),
-                                          {target.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
-                                           target.desc().usage});
     struct Bounce {
         render::GBuffer g;
         TextureHandle lit, array, out;
@@ -50,6 +38,8 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
     };
     const uint32_t visible = readyCount();
     const render::Environment& env = renderer.environment();
+    const render::FrameInputs frame = c.frame;
+    const render::GBuffer& g = c.g;
     const auto& b = fg.addPass<Bounce>(
         "probes.capture_bounce", PassType::Compute,
         [&](PassBuilder& pb, Bounce& d) {
@@ -63,7 +53,7 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
             d.out = pb.write(pb.create("probes.face", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
         },
         [this, frame, visible, res, &env](const Bounce& d, PassContext& pc) {
-                        bounce.bind(pc.cmd());
+            bounce.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled(0, pc.view(d.g.depth), nearest)
                 .sampled(1, pc.view(d.g.albedo), nearest)
@@ -81,13 +71,33 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
             vkCmdPushConstants(pc.cmd(), bounce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
             vkCmdDispatch(pc.cmd(), (res + 7) / 8, (res + 7) / 8, 1);
         });
+    c.face = b.out;
+    return c;
+}
+
+void Probes::Impl::runCapture(FrameGraph& fg) {
+    fg.compile(allocator);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
+    for (const auto& t : executor.readTimings()) ms += t.ms;
+    ++faces;
+}
+
+void Probes::Impl::captureFace(size_t index, uint32_t face) {
+    const ProbeInfo& info = probes[index];
+    const uint32_t res = info.probe.resolution;
+    FrameGraph fg(FrameGraphConfig{res, res});
+    CaptureFace c = addCaptureFace(fg, glm::vec3(info.gpu.center), face, res);
+    const gpu::Image& target = radiance[index];
+    TextureHandle cube = fg.importTexture("probes.radiance", descOf(target),
+                                          {target.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                           target.desc().usage});
     struct Store {
         TextureHandle face, cube;
     };
     const auto& s = fg.addPass<Store>(
         "probes.store", PassType::Transfer,
         [&](PassBuilder& pb, Store& d) {
-            d.face = pb.read(b.out, TextureUsage::TransferSrc);
+            d.face = pb.read(c.face, TextureUsage::TransferSrc);
             d.cube = pb.write(cube, TextureUsage::TransferDst, Subresource{0, 1, face, 1});
         },
         [face, res](const Store& d, PassContext& pc) {
@@ -103,10 +113,7 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
         });
     fg.markOutput(s.cube);
-    fg.compile(allocator);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
-    for (const auto& t : executor.readTimings()) ms += t.ms;
-    ++faces;
+    runCapture(fg);
 }
 
 void Probes::Impl::prefilter(size_t index) {

@@ -10,7 +10,15 @@
 
 #include <optional>
 
+#include "common/cmo.h"
+
 namespace speculum::probes {
+
+// The frame-graph description of an image the module keeps across frames (imported each use).
+inline TextureDesc descOf(const gpu::Image& image) {
+    const gpu::ImageDesc& d = image.desc();
+    return {.width = d.width, .height = d.height, .format = d.format, .mips = d.mips, .layers = d.layers, .cube = d.cube};
+}
 
 struct Probes::Impl {
     const gpu::Context& ctx;
@@ -39,6 +47,21 @@ struct Probes::Impl {
     size_t faces = 0;
     double ms = 0.0;
 
+    // CMOs (cmo.cpp): arrays of 6 layers per CMO at the largest CMO resolution, full chains.
+    struct CmoState {
+        std::vector<CmoInfo> list;
+        uint32_t faceSize = 16, mips = 5;
+        gpu::Image radiance, distance, attr, albedo;
+        // Per mip: a 2D-array view of every layer (storage writes and the hierarchy's reads).
+        std::vector<gpu::Unique<VkImageView>> radianceMips, distanceMips, attrMips, albedoMips;
+        gpu::Buffer records, mirrors;
+        uint32_t mirrorCount = 1;
+        gpu::Pipeline store, reduce;
+        std::vector<bool> pending, ready;
+        size_t slice = 0;
+    };
+    std::optional<CmoState> cmo;
+
     Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettings& s);
     void validate() const;
     void allocate();
@@ -50,6 +73,25 @@ struct Probes::Impl {
     uint32_t writeRecords();
     uint32_t readyCount() const;
     void bakeAll(const std::vector<size_t>& which, const Progress& progress, size_t& done, size_t total);
+
+    // What a capture of one face adds to `fg` (capture.cpp): the renderer's passes at the face's
+    // camera and probes.capture_bounce; `face` is the lit face with the bounce.
+    struct CaptureFace {
+        render::FrameInputs frame;
+        render::GBuffer g;
+        TextureHandle face;
+    };
+    CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
+    void runCapture(FrameGraph& fg);
+
+    // CMOs (cmo.cpp).
+    void createCmos();
+    void validateCmos() const;
+    void captureCmoFace(size_t index, uint32_t face);
+    // Box mips of the radiance and the min/max hierarchy of CMO `index`, then its record.
+    void finishCmo(size_t index);
+    uint32_t writeCmoRecords();
+    void updateCmos(const Progress& progress);
 };
 
 }  // namespace speculum::probes

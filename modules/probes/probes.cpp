@@ -89,6 +89,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
     sortForBlending(probes);
     validate();
     allocate();
+    createCmos();
 }
 
 void Probes::Impl::validate() const {
@@ -186,6 +187,9 @@ Probes::Probes(const gpu::Context& ctx, render::Renderer& renderer, const ProbeS
 Probes::~Probes() = default;
 
 const std::vector<ProbeInfo>& Probes::probes() const { return impl_->probes; }
+const std::vector<CmoInfo>& Probes::cmos() const { return impl_->cmo->list; }
+const gpu::Image& Probes::cmoDistance() const { return impl_->cmo->distance; }
+const gpu::Image& Probes::cmoRadiance() const { return impl_->cmo->radiance; }
 const gpu::Image& Probes::cubes() const { return impl_->cubes; }
 size_t Probes::facesCaptured() const { return impl_->faces; }
 double Probes::captureMs() const { return impl_->ms; }
@@ -194,6 +198,9 @@ void Probes::requestUpdate(int probe) {
     Impl& m = *impl_;
     for (size_t i = 0; i < m.pending.size(); ++i)
         if (probe < 0 || size_t(probe) == i) m.pending[i] = true;
+    // CMOs follow the local probes in this numbering.
+    for (size_t i = 0; i < m.cmo->pending.size(); ++i)
+        if (probe < 0 || size_t(probe) == m.pending.size() + i) m.cmo->pending[i] = true;
 }
 
 void Probes::Impl::bakeAll(const std::vector<size_t>& which, const Progress& progress, size_t& done, size_t total) {
@@ -235,9 +242,12 @@ void Probes::update(const Progress& progress) {
         ++m.slice;
     }
     m.baked = m.baked || !full.empty();
+    // CMOs after the probes: their captures see the probes' bake (capture_bounce).
+    m.updateCmos(progress ? Progress([](size_t done, size_t total) { app::progress("CMO bake (faces)", done, total); })
+                          : Progress{});
 }
 
-ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled) {
+ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled, bool cmos) {
     Impl& m = *impl_;
     ProbeSet set;
     const gpu::ImageDesc& d = m.cubes.desc();
@@ -248,6 +258,17 @@ ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled) {
                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, d.usage});
     set.records = graph.importBuffer("probes.records", {m.records.size()}, {m.records.get()});
     set.count = enabled ? m.readyCount() : 0;
+    const Impl::CmoState& c = *m.cmo;
+    auto import = [&](const gpu::Image& image, const char* name) {
+        return graph.importTexture(name, descOf(image),
+                                   {image.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, image.desc().usage});
+    };
+    set.cmos.radiance = import(c.radiance, "probes.cmo.radiance");
+    set.cmos.distance = import(c.distance, "probes.cmo.distance");
+    set.cmos.attr = import(c.attr, "probes.cmo.attr");
+    set.cmos.albedo = import(c.albedo, "probes.cmo.albedo");
+    set.cmos.records = graph.importBuffer("probes.cmo.records", {c.records.size()}, {c.records.get()});
+    set.cmos.count = cmos ? uint32_t(std::count(c.ready.begin(), c.ready.end(), true)) : 0;
     return set;
 }
 

@@ -29,13 +29,15 @@ app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings
                                                  app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;
         bool hizView = std::find(asked.begin(), asked.end(), "hiz") != asked.end();
-        probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes) : probes::ProbeSet{};
+        probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes, s.cmos) : probes::ProbeSet{};
         ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame, set}, s, hizView);
         aovs.provided["reflection"] = {out.reflection, 3};
         aovs.provided["method"] = {out.method, 3};
         aovs.provided["iterations"] = {out.hit, 1, 3};
         // xy hit pixel, z hit depth (< 0: the miss code of shaders/reflections/trace.comp), w iterations.
         aovs.provided["hit"] = {out.hit, 4};
+        // Without CMOs in the chain the hit image stands in: zeros are not written for it.
+        if (out.cmoInfo.valid()) aovs.provided["cmo"] = {out.cmoInfo, 4};
         if (hizView) aovs.provided["hiz"] = {out.hizView, 3};
         if (probeView != probes::DebugView::None) return probes->addDebugView(graph, gbuffer, frame, set, probeView);
         return out.lit;

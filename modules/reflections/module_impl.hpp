@@ -21,7 +21,8 @@ using FrameUniforms = shader::ReflectionFrame;
 static_assert(offsetof(FrameUniforms, eye) == 256 && offsetof(FrameUniforms, znear) == 268);
 static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, maxIterations) == 288);
 static_assert(offsetof(FrameUniforms, traceMode) == 368 && offsetof(FrameUniforms, temporalAlpha) == 400);
-static_assert(sizeof(FrameUniforms) == 416, "std140 layout");
+static_assert(offsetof(FrameUniforms, cmoCount) == 416);
+static_assert(sizeof(FrameUniforms) == 448, "std140 layout");
 
 // The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
 // them and knows whether the previous one was written).
@@ -59,6 +60,9 @@ struct Reflections::Impl {
     std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 2> composites;  // per view, temporal
     const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy);
     const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy);
+    // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
+    std::array<std::optional<gpu::Pipeline>, 4> cmoTraces;
+    const gpu::Pipeline& cmoTrace(Resolution resolution, bool linear);
     const gpu::Pipeline& composite(DebugView view, bool temporal);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -96,10 +100,13 @@ struct Reflections::Impl {
         TextureHandle hit, guide;  // guide: half resolution only
     };
     Traced addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
+    // reflections.cmo_trace: what screen space leaves, through the CMOs (out.cmo, out.cmoInfo).
+    void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, const ReflectionSettings& s,
+                     ReflectionOutputs& out);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
                     ReflectionOutputs& out);
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
-    // image. `method` at the trace's size (its alpha: the reflected distance).
+    // image. `method`: the reflected distance at the trace's size (ReflectionOutputs::distance).
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle reflection,
                               TextureHandle method);
     struct Composited {

@@ -14,6 +14,8 @@ constexpr VkFormat kVisibilityFormat = VK_FORMAT_R8_UNORM;
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kHitFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 constexpr VkFormat kGuideFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+// The reflected distance (m) the temporal pass reprojects by; r32f is a core storage format.
+constexpr VkFormat kDistanceFormat = VK_FORMAT_R32_SFLOAT;
 
 std::string levelName(const char* pass, uint32_t level) {
     return std::string("reflections.") + pass + "." + std::to_string(level);
@@ -172,10 +174,53 @@ Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const Refle
     return {d.hit, d.guide};
 }
 
+void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
+                                    const ReflectionSettings& s, ReflectionOutputs& out) {
+    const probes::CmoSet& set = in.probes.cmos;
+    struct Data {
+        TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info;
+        BufferHandle records;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.cmo_trace", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.hit = b.read(out.hit, TextureUsage::Sampled);
+            data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
+            data.records = b.read(set.records, BufferUsage::StorageRead);
+            data.distance = b.read(set.distance, TextureUsage::Sampled);
+            data.radiance = b.read(set.radiance, TextureUsage::Sampled);
+            data.attr = b.read(set.attr, TextureUsage::Sampled);
+            data.albedo = b.read(set.albedo, TextureUsage::Sampled);
+            TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
+            data.cmo = b.write(b.create("reflections.cmo", desc), TextureUsage::StorageWrite);
+            data.info = b.write(b.create("reflections.cmo_info", desc), TextureUsage::StorageWrite);
+        },
+        [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear](const Data& data,
+                                                                                        PassContext& pc) {
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled(5, pc.view(data.hit), nearest)
+                .sampled(6, pc.view(data.guide), nearest)
+                .buffer(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.records))
+                .sampled(8, pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled(9, pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled(10, pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled(11, pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled(12, pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+                .storage(13, pc.view(data.cmo))
+                .storage(14, pc.view(data.info));
+            dispatch(pc, cmoTrace(half ? Resolution::Half : Resolution::Full, linear), w, pc.extent(data.cmo));
+        });
+    out.cmo = d.cmo;
+    out.cmoInfo = d.info;
+}
+
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
                                    GlossyMode glossy, ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, probeCubes;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes;
         BufferHandle probeRecords;
     };
     probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
@@ -197,6 +242,10 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                                       TextureUsage::StorageWrite);
             data.method = b.write(b.create(half ? "reflections.method_half" : "reflections.method", desc),
                                   TextureUsage::StorageWrite);
+            data.distance = b.write(b.create("reflections.distance", {.format = kDistanceFormat, .relativeTo = out.hit}),
+                                    TextureUsage::StorageWrite);
+            // Without CMOs the hit image is bound in the CMO result's place (unread: rf.cmoCount 0).
+            data.cmo = b.read(out.cmo.valid() ? out.cmo : out.hit, TextureUsage::Sampled);
         },
         [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy](const Data& data,
                                                                                        PassContext& pc) {
@@ -209,11 +258,14 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                 .storage(9, pc.view(data.reflection))
                 .storage(10, pc.view(data.method))
                 .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
-                .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
+                .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+                .sampled(13, pc.view(data.cmo), nearest)
+                .storage(14, pc.view(data.distance));
             dispatch(pc, resolve(res, glossy), w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
     out.method = d.method;
+    out.distance = d.distance;
 }
 
 Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
@@ -237,7 +289,10 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             // Only the method debug view reads the weights: otherwise the reflection is bound in
             // their place, so that the graph can cull the half-resolution method upsampling.
-            data.method = b.read(view == DebugView::Method ? out.method : out.reflection, TextureUsage::Sampled);
+            data.method = b.read(view == DebugView::Method                      ? out.method
+                                 : view == DebugView::Cmo && out.cmoInfo.valid() ? out.cmoInfo
+                                                                                 : out.reflection,
+                                 TextureUsage::Sampled);
             data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
                                TextureUsage::StorageWrite);
             // A debug view replaces the image; the history still gets the real one, or the

@@ -37,14 +37,16 @@ std::vector<gpu::Binding> bindings(std::string_view layout) {
     return b;
 }
 
-// Per material: mode, roughness scale, roughness override (-1: none), max screen-space
+// Per material: mode and CMO tracing, roughness scale, roughness override (-1: none), max screen-space
 // roughness. Every lit material reflects (reflectionsOf), glTF's default material included.
 std::vector<glm::vec4> materialTable(const Scene& scene) {
     std::vector<glm::vec4> table;
     auto row = [&](const Material& m) {
         const MaterialReflections r = reflectionsOf(m);
-        table.emplace_back(float(uint32_t(r.mode)), r.roughnessScale, r.roughnessOverride.value_or(-1.0f),
-                           r.maxScreenSpaceRoughness);
+        // x: the mode in bits 0-1, bit 2 CMO tracing (material.glsl); local_cubemap_only skips CMOs.
+        bool cmos = r.traceCmos && r.mode != ReflectionMode::LocalCubemapOnly;
+        table.emplace_back(float(uint32_t(r.mode) | (cmos ? 4u : 0u)), r.roughnessScale,
+                           r.roughnessOverride.value_or(-1.0f), r.maxScreenSpaceRoughness);
     };
     for (const Material& m : scene.materials) row(m);
     row(Material{});
@@ -164,6 +166,13 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.multiBounce = s.multiBounce ? 1u : 0u;
     u.materialCount = materialCount;
     u.probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
+    u.cmoCount = s.cmos && in.probes.cmos.records.valid() ? in.probes.cmos.count : 0u;
+    u.cmoMaxIterations = float(s.cmoMaxIterations);
+    u.cmoLinearStep = s.cmoLinearStep;
+    u.cmoThickness = s.cmoThickness;
+    u.cmoMaxDistance = s.cmoMaxDistance;
+    u.cmoBounces = float(s.cmoBounces);
+    u.cmoMaxRoughness = s.cmoMaxRoughness;
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 
@@ -226,8 +235,22 @@ const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolut
 const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", bindings("sssbssssiibs"), 0,
+        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", bindings("sssbssssiibssi"), 0,
                                        "reflections.resolve", {uint32_t(resolution), uint32_t(glossy)});
+    return *p;
+}
+
+const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool linear) {
+    std::optional<gpu::Pipeline>& p = cmoTraces.at(size_t(resolution) * 2 + (linear ? 1 : 0));
+    if (!p) {
+        // The scene's lights (ids 0-287, shaders/engine/scene_lights.glsl), then ids 300 and 301.
+        std::vector<uint32_t> constants = renderer.lightingConstants();
+        constants.resize(302, 0u);
+        constants[300] = uint32_t(resolution);
+        constants[301] = linear ? 1u : 0u;
+        p = gpu::createComputePipeline(ctx, "reflections/cmo_trace.comp", bindings("sssbssbsssssii"), 0,
+                                       "reflections.cmo_trace", constants);
+    }
     return *p;
 }
 
@@ -254,9 +277,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     Impl::Traced traced = m.addTrace(graph, in, out.hiz, s);
     out.hit = traced.hit;
     TextureHandle guide = out.guide = traced.guide;
+    if (s.cmos && in.probes.cmos.records.valid() && in.probes.cmos.count > 0) m.addCmoTrace(graph, in, guide, s, out);
     m.addResolve(graph, in, guide, s.glossy, out);
-    // The temporal pass reads the reflected distance (method.a) at the trace's resolution.
-    TextureHandle traceMethod = out.method;
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
         UpsampleInputs up{in.gbuffer.depth, in.gbuffer.normal, guide, out.reflection, cam.invViewProj, cam.position};
@@ -266,7 +288,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
         out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");
     }
     TextureHandle raw = out.reflection;
-    if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, traceMethod);
+    if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, out.distance);
     Impl::Composited composited = m.addComposite(graph, in, out, s.debugView, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);

@@ -56,6 +56,30 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
          "chain; off: what screen space leaves goes to the sky."},
+        {"reflections.cmos", T::Bool, "", 0, 1, 1, {},
+         "Cubemap-tracing objects (CMOs, SPECULUM_reflection_probe kind cmo) between screen space "
+         "and the local probes in the fallback chain: what screen space leaves is traced through "
+         "them in order; off: it goes to the local probes."},
+        {"reflections.cmo_trace", T::Enum, "", 0, 1, 0, {"hierarchical", "linear"},
+         "CMO tracer: the min/max distance hierarchy per cube face (skips what the ray cannot "
+         "meet), or constant world steps with bisection kept as the baseline."},
+        {"reflections.cmo_max_iterations", T::Int, "", 1, 4096, 256, {},
+         "CMO tracing: most cells (hierarchical) or steps (linear) per pixel over every CMO and "
+         "bounce; a ray out of iterations is unresolved and goes on down the chain."},
+        {"reflections.cmo_linear_step", T::Float, "m", 0.001, 10, 0.05, {},
+         "CMO linear tracer: the constant step along the ray."},
+        {"reflections.cmo_thickness", T::Float, "m", 0, 10, 0.05, {},
+         "CMO tracing: how far behind a captured surface a crossing found at a texel's edge may "
+         "lie and still be that surface (plus four texel footprints); deeper, the ray passed "
+         "behind it and the next CMO is asked."},
+        {"reflections.cmo_max_distance", T::Float, "m", 0.1, 10000, 60, {},
+         "CMO tracing: the length of a traced ray; beyond it the ray is a miss (local probes, sky)."},
+        {"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
+         "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
+         "mirrorForSelfReflections) reflects again, up to this many times."},
+        {"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.5, {},
+         "CMOs trace reflections up to this perceptual roughness (glossy rays read the colour "
+         "mips by the cone's footprint at the hit); rougher goes to the local probes."},
         {"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
          "Trace and resolve at full size, or at half size in each axis followed by a joint bilateral "
          "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."},
@@ -70,10 +94,11 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.temporal_clip", T::Float, "sigma", 0.25, 8, 1.25, {},
          "Temporal: the history is clipped to the current 3x3 mean +- this many standard "
          "deviations (lower: less ghosting, more flicker)."},
-        {"reflections.debug_view", T::Enum, "", 0, 6, 0,
-         {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection"},
+        {"reflections.debug_view", T::Enum, "", 0, 7, 0,
+         {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection", "cmo"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
-         "method weights, a Hi-Z level, or the reflection alone."},
+         "method weights (CMOs yellow), a Hi-Z level, the reflection alone, or CMO tracing (hue: "
+         "which CMO hit, brightness: iterations; red: unresolved)."},
         {"reflections.debug_hiz_mip", T::Int, "", 0, 15, 3, {},
          "Hi-Z level shown by debug_view=hiz and the hiz AOV."},
     };
@@ -83,8 +108,9 @@ app::ModuleInfo moduleInfo() {
     return {"reflections",
             settingsTable(),
             {{"reflection", "pre-Fresnel reflection radiance (rgb), 0 where nothing reflects"},
-             {"method", "fallback chain weights: r screen space, g local probes, b sky (sum 1); a: reflected "
-                        "distance (m, 0 unknown, 65504 the sky)"},
+             {"method", "fallback chain weights: r screen space, g local probes, b sky, a CMOs (sum 1)"},
+             {"cmo", "CMO tracing per pixel (at the trace's resolution): x iterations, y the CMO that hit "
+                     "(1-based; 0 none), z 1 hit, 2 unresolved, w self-reflection bounces"},
              {"iterations", "screen-space trace iterations per pixel (at the trace's resolution: half size with "
                             "reflections.resolution=half)"},
              {"hiz", "closest and farthest depth of the pixel's cell at reflections.debug_hiz_mip"},
@@ -119,6 +145,14 @@ ReflectionSettings ReflectionSettings::from(const Settings& s) {
     r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
     r.multiBounce = s.getBool("reflections.multi_bounce");
     r.probes = s.getBool("reflections.probes");
+    r.cmos = s.getBool("reflections.cmos");
+    r.cmoTrace = CmoTraceMode(s.getInt("reflections.cmo_trace"));
+    r.cmoMaxIterations = s.getInt("reflections.cmo_max_iterations");
+    r.cmoLinearStep = s.getFloat("reflections.cmo_linear_step");
+    r.cmoThickness = s.getFloat("reflections.cmo_thickness");
+    r.cmoMaxDistance = s.getFloat("reflections.cmo_max_distance");
+    r.cmoBounces = s.getInt("reflections.cmo_bounces");
+    r.cmoMaxRoughness = s.getFloat("reflections.cmo_max_roughness");
     r.resolution = Resolution(s.getInt("reflections.resolution"));
     r.glossy = GlossyMode(s.getInt("reflections.glossy"));
     r.temporal = s.getBool("reflections.temporal");

@@ -68,6 +68,22 @@ float distanceFadeEnd() {
     return rf.distanceFadeEnd > rf.distanceFadeStart ? rf.distanceFadeEnd : rf.distanceFadeStart;
 }
 
+// tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
+// acos and tan cost a polynomial each per lane on a CPU driver.
+float coneTan(float roughness) {
+    float alpha = max(roughness * roughness, 1e-4);
+    float power = 2.0 / (alpha * alpha) - 2.0;
+    float c = exp2(log2(0.244) / (power + 1.0));
+    return power > 1048576.0 ? 0.0 : sqrt(max(1.0 - c * c, 0.0)) / c;
+}
+
+// Hits near the screen's edges fade to the fallback (reflections.edge_fade).
+float edgeFade(vec2 hitPx) {
+    vec2 uv = hitPx * rf.size.zw;
+    float edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
+    return rf.edgeFade > 0.0 ? clamp(edge / rf.edgeFade, 0.0, 1.0) : 1.0;
+}
+
 // The full-resolution pixel a half-resolution pixel traces, from its guide (reflections/guide.glsl).
 ivec2 guidePixel(ivec2 halfPixel, vec4 guide) {
     int i = (int(abs(guide.w)) - 1) & 3;

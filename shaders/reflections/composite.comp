@@ -45,7 +45,22 @@ vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
     if (view == 1u) return reflective ? heat(hit.w / max(rf.maxIterations, 1.0)) : dim;
     if (view == 2u) return reflective ? (hit.z > 0.0 ? vec3(0.1, 0.9, 0.1) : vec3(0.9, 0.1, 0.1)) : dim;
     if (view == 3u) return reflective ? vec3(texelFetch(reflectionTex, pixel, 0).a) : dim;
-    if (view == 4u) return reflective ? texelFetch(methodTex, pixel, 0).rgb : dim;
+    if (view == 4u) {
+        // r screen space, g probes, b sky, CMOs yellow.
+        vec4 w = texelFetch(methodTex, pixel, 0);
+        return reflective ? w.rgb + vec3(w.a, w.a, 0.0) : dim;
+    }
+    if (view == 7u) {
+        // CMO tracing (reflections.cmo_info, trace size): hue by the CMO that hit, brightness by
+        // iterations; red: unresolved by every CMO; dark: not traced or a miss.
+        vec4 info = texelFetch(methodTex, ivec2(vec2(pixel) / rf.traceScale), 0);
+        const vec3 hues[4] = vec3[](vec3(0.2, 0.9, 0.3), vec3(0.3, 0.5, 1.0), vec3(1.0, 0.8, 0.2), vec3(0.9, 0.3, 0.9));
+        float bright = 0.35 + 0.65 * clamp(info.x / max(rf.cmoMaxIterations * 0.25, 1.0), 0.0, 1.0);
+        if (!reflective) return dim;
+        if (info.z > 1.5) return vec3(0.9, 0.1, 0.1);
+        if (info.z > 0.5) return hues[(int(info.y) - 1) & 3] * bright;
+        return vec3(0.05) + dim;
+    }
     if (view == 5u) {
         int level = min(int(rf.debugHizMip), int(rf.hizLevels) - 1);
         ivec2 cell = min(pixel >> level, hizLevelSize(level) - 1);

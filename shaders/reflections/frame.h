@@ -72,6 +72,15 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
     float temporalClip;   // history clipped to mean +- this many standard deviations
     uint frameIndex;      // frames since the module was made (noise decorrelation)
     uint temporalValid;   // the accumulated history and its normals are this frame's previous
+    // CMO tracing (reflections.cmo_*; shaders/reflections/cmo_trace.comp).
+    uint cmoCount;  // CMOs in the chain (0: off or none)
+    float cmoMaxIterations;
+    float cmoLinearStep;
+    float cmoThickness;
+    float cmoMaxDistance;
+    float cmoBounces;
+    float cmoMaxRoughness;
+    float cmoPad;
 } SPECULUM_REFLECTION_FRAME_END;
 
 #ifdef __cplusplus

@@ -5,12 +5,13 @@
 #define SPECULUM_REFLECTIONS_MATERIAL_GLSL
 
 layout(set = 0, binding = 4, std430) readonly buffer MaterialTable {
-    vec4 materials[];  // mode, roughness scale, roughness override (< 0 none), max SS roughness
+    vec4 materials[];  // mode | 4 traceCmos, roughness scale, roughness override (< 0 none), max SS roughness
 };
 
 struct PixelMaterial {
     bool reflective;      // flagged, lit, and mode != off
     bool screenSpace;     // mode screen space + fallbacks
+    bool traceCmos;       // CMOs in its chain (SPECULUM_reflections traceCmos)
     float roughness;      // the reflection's perceptual roughness
     float maxScreenSpace; // min(material, global) screen-space roughness limit
 };
@@ -20,8 +21,10 @@ PixelMaterial pixelMaterial(float flagsValue, float gbufferRoughness) {
     PixelMaterial m;
     uint index = min(flags >> kMaterialIndexShift, rf.materialCount - 1u);
     vec4 p = materials[index];
-    m.reflective = (flags & kFlagReflective) != 0u && (flags & kFlagUnlit) == 0u && uint(p.x) != kModeOff;
-    m.screenSpace = uint(p.x) == kModeScreenSpace;
+    uint mode = uint(p.x) & 3u;
+    m.reflective = (flags & kFlagReflective) != 0u && (flags & kFlagUnlit) == 0u && mode != kModeOff;
+    m.screenSpace = mode == kModeScreenSpace;
+    m.traceCmos = (uint(p.x) & 4u) != 0u;
     m.roughness = clamp(p.z >= 0.0 ? p.z : gbufferRoughness * p.y, 0.0, 1.0);
     m.maxScreenSpace = min(p.w, rf.maxRoughness);
     return m;

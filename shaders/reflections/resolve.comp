@@ -25,6 +25,8 @@ layout(set = 0, binding = 8) uniform samplerCube envSpecular;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
 layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
+layout(set = 0, binding = 13) uniform sampler2D cmoTex;      // reflections.cmo_trace: rgb, a first hit distance (0 none)
+layout(set = 0, binding = 14, r32f) uniform writeonly image2D distanceOut;
 // reflections.resolution (1: half): the full pixel the trace chose (the guide,
 // reflections/guide.glsl), written at the invocation's half-resolution position.
 layout(constant_id = 0) const uint kHalf = 0u;
@@ -32,18 +34,10 @@ layout(constant_id = 0) const uint kHalf = 0u;
 // samples instead of a cone.
 layout(constant_id = 1) const uint kStochastic = 0u;
 
-// The reflected distance the temporal pass reprojects by (method.a): the screen-space hit's
-// when screen space covers most, the probes' proxy distance when they do, kSkyDistance
-// (common.glsl: a direction) when the sky does; 0: unknown (reproject by the surface); see main.
-
-// tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
-// acos and tan cost a polynomial each per lane on a CPU driver.
-float coneTan(float roughness) {
-    float alpha = max(roughness * roughness, 1e-4);
-    float power = 2.0 / (alpha * alpha) - 2.0;
-    float c = exp2(log2(0.244) / (power + 1.0));
-    return power > 1048576.0 ? 0.0 : sqrt(max(1.0 - c * c, 0.0)) / c;
-}
+// The reflected distance the temporal pass reprojects by (distanceOut): the screen-space hit's
+// when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
+// kSkyDistance (common.glsl: a direction) when the sky does; 0: unknown (reproject by the
+// surface); see main.
 
 float incircleRadius(float base, float height) {
     if (height <= 0.0 || base <= 0.0) return 0.0;
@@ -90,12 +84,6 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
     }
     accumulated = total;
     return total > 1e-4 ? sum / total : first;
-}
-
-float edgeFade(vec2 hitPx) {
-    vec2 uv = hitPx * rf.size.zw;
-    float edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
-    return rf.edgeFade > 0.0 ? clamp(edge / rf.edgeFade, 0.0, 1.0) : 1.0;
 }
 
 // Stochastic glossy: the screen-space radiance of this pixel's lobe from its own ray and its four
@@ -151,6 +139,7 @@ void main() {
     ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 reflection = vec4(0.0);
     vec4 method = vec4(0.0);
+    float distance_ = 0.0;
     float depth = texelFetch(hiz, pixel, 0).g;
     vec4 normalRough = texelFetch(normalTex, pixel, 0);
     PixelMaterial m = pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, normalRough.w);
@@ -178,22 +167,34 @@ void main() {
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
         }
-        // The fallback chain beyond screen space, local probes then the sky, only where screen
-        // space leaves something (the probe lookup is most of this pass's cost past the cone).
+        // The fallback chain beyond screen space: CMOs (what reflections.cmo_trace found), then
+        // local probes, then the sky, only where screen space leaves something (the probe
+        // lookup is most of this pass's cost past the cone).
         vec4 probe = vec4(0.0);
         vec3 env = vec3(0.0);
         float proxyDistance = 0.0;
+        float cmoWeight = 0.0;
+        vec4 cmo = vec4(0.0);
         if (coverage < 1.0 || !finite3(screen)) {
-            probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
-            vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-            env = probe.rgb + (1.0 - probe.a) * sky;
+            if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
+            cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
+            if (cmoWeight < 1.0) {
+                probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
+                vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
+                env = probe.rgb + (1.0 - probe.a) * sky;
+            } else {
+                env = cmo.rgb;
+            }
         }
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
         reflection = vec4(max(radiance, vec3(0.0)), coverage);
-        method = vec4(coverage, (1.0 - coverage) * probe.a, (1.0 - coverage) * (1.0 - probe.a), 0.0);
-        method.a = method.r >= max(method.g, method.b) ? hitDistance : method.b > method.g ? kSkyDistance : proxyDistance;
+        float rest = (1.0 - coverage) * (1.0 - cmoWeight);
+        method = vec4(coverage, rest * probe.a, rest * (1.0 - probe.a), (1.0 - coverage) * cmoWeight);
+        float top = max(max(method.r, method.g), max(method.b, method.a));
+        distance_ = method.r >= top ? hitDistance : method.a >= top ? cmo.a : method.b >= top ? kSkyDistance : proxyDistance;
     }
     imageStore(reflectionOut, out_, reflection);
     imageStore(methodOut, out_, method);
+    imageStore(distanceOut, out_, vec4(distance_));
 }

@@ -4,7 +4,7 @@
 // Where the history comes from depends on what the reflection is of:
 //   rough reflections follow the surface: the history at the pixel's motion vector;
 //   sharp ones follow the reflected point: its mirror image behind the surface (the view ray
-//   extended by the reflected distance, method.a; the sky's is a direction) projected by the
+//   extended by the reflected distance (the resolve's distance image); the sky's is a direction) projected by the
 //   previous camera, the parallax a planar mirror shows (Stachowiak's SSSR, HDRP).
 // The two are blended by roughness (the reflected point's weight falls from 1 at 0.05 to 0 at
 // 0.35, where a lobe's footprint is wider than its parallax). Each is rejected where the
@@ -25,7 +25,7 @@ layout(set = 0, binding = 2) uniform sampler2D normalTex;       // xyz normal, w
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;     // a: flags | material index
 layout(set = 0, binding = 5) uniform sampler2D motionTex;       // uv - previous uv
 layout(set = 0, binding = 6) uniform sampler2D reflectionTex;   // this frame's, full size
-layout(set = 0, binding = 7) uniform sampler2D methodTex;       // trace size; a: reflected distance
+layout(set = 0, binding = 7) uniform sampler2D methodTex;       // trace size; r: reflected distance (resolve)
 layout(set = 0, binding = 8) uniform sampler2D historyTex;      // texelFetch: accumulated reflection
 layout(set = 0, binding = 9) uniform sampler2D historyNormal;   // texelFetch: xyz normal, w roughness (< 0 none)
 layout(set = 0, binding = 10) uniform sampler2D historyDepth;   // texelFetch
@@ -86,7 +86,7 @@ void main() {
         bool validS = insideUV(prevS) && abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
                       sameMaterialThere(prevSPixel, n, m.roughness, 0.9);
         // The reflected point's previous position.
-        float dist = texelFetch(methodTex, ivec2(vec2(pixel) / rf.traceScale), 0).a;  // at the trace's size
+        float dist = texelFetch(methodTex, ivec2(vec2(pixel) / rf.traceScale), 0).r;  // at the trace's size
         bool validV = false;
         vec2 prevV = vec2(-1.0);
         ivec2 prevVPixel = ivec2(0);

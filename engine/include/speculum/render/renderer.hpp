@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace speculum::render {
 
@@ -108,6 +109,9 @@ public:
     void updateMaterialFactors();
 
     const Environment& environment() const;
+    // The scene's lights and irradiance SH as specialization constants (ids 0-287), for passes
+    // that include shaders/engine/scene_lights.glsl and shade surfaces again.
+    const std::vector<uint32_t>& lightingConstants() const;
     const Scene& scene() const;
     RendererOptions& options();
 

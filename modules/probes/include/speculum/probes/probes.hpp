@@ -61,11 +61,33 @@ struct ProbeInfo {
     float volume = 0.0f;  // world volume of the influence shape (smaller wins at equal order)
 };
 
+// The scene's CMOs (kind cmo) as the tracer reads them: arrays of six layers per CMO, each
+// with a mip chain; a CMO below the largest resolution starts at the mip of its own size
+// (shaders/common/cmo.h). All GENERAL between uses.
+struct CmoSet {
+    TextureHandle radiance;  // RGBA16F, cube-compatible: rgb lit radiance (box mips), a sun visibility + 2 mirror
+    TextureHandle distance;  // RG32F: min, max world distance to the CMO's centre per cell (the hierarchy)
+    TextureHandle attr;      // RGBA16F: xyz normal, w roughness (the G-buffer's)
+    TextureHandle albedo;    // RGBA8: rgb base colour, a metallic
+    BufferHandle records;    // CmoRecord[count], in trace order (higher `order` first)
+    uint32_t count = 0;      // 0: none (or off); the handles still name valid arrays
+};
+
 // What the module hands to the next one: valid handles in the graph they were added to.
 struct ProbeSet {
     TextureHandle cubes;   // cube array, SHADER_READ_ONLY: cube i is probe i's prefiltered radiance
     BufferHandle records;  // GpuProbe[count], in blend order
     uint32_t count = 0;    // 0: no probe (or probes off); the handles still name valid dummies
+    CmoSet cmos;           // invalid handles when the host did not add them
+};
+
+// A CMO of the scene, as the module keeps it.
+struct CmoInfo {
+    int node = -1;
+    std::string name;
+    ReflectionProbe probe;
+    glm::vec3 center{0.0f};
+    uint32_t slot = 0;  // its six layers in the arrays start at 6 * slot
 };
 
 // Orders probes as the blend walks them: higher `order` first, then the smaller volume.
@@ -98,14 +120,19 @@ public:
     static Progress terminalProgress();
     // Asks for a bake of one probe (index in blend order) or of all (-1) at the next update().
     void requestUpdate(int probe = -1);
-    // Imports the cube array and the records into `graph` (count 0 when `enabled` is false).
-    ProbeSet addPasses(FrameGraph& graph, bool enabled = true);
+    // Imports the cube array and the records into `graph` (count 0 when `enabled` is false), and
+    // the CMO arrays (count 0 when `cmos` is false).
+    ProbeSet addPasses(FrameGraph& graph, bool enabled = true, bool cmos = true);
     // probes.debug: the blend or the winning probe per pixel (DebugView), scaled by 1 / exposure
     // like every debug view; returns the image that replaces the lit one.
     TextureHandle addDebugView(FrameGraph& graph, const render::GBuffer& gbuffer, const render::FrameInputs& frame,
                                const ProbeSet& set, DebugView view);
 
     const std::vector<ProbeInfo>& probes() const;
+    // The scene's CMOs in trace order, and their arrays (tests).
+    const std::vector<CmoInfo>& cmos() const;
+    const gpu::Image& cmoDistance() const;
+    const gpu::Image& cmoRadiance() const;
     // The cube array (tests): face size, mips, cubes.
     const gpu::Image& cubes() const;
     // Faces captured so far and their total GPU milliseconds (the bench reports ms per face).

@@ -32,8 +32,10 @@ enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
 enum class Resolution : uint32_t { Full = 0, Half = 1 };
 // reflections.glossy: cone-traced mirror hit, or GGX samples reused across neighbours.
 enum class GlossyMode : uint32_t { Cone = 0, Stochastic = 1 };
-enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection };
-inline constexpr size_t kDebugViewCount = 7;
+// reflections.cmo_trace: the min/max hierarchy per face, or constant steps (the baseline).
+enum class CmoTraceMode : uint32_t { Hierarchical = 0, Linear = 1 };
+enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection, Cmo };
+inline constexpr size_t kDebugViewCount = 8;
 
 // The values of settingsTable(). Its defaults are the table's (the constructor reads them), so
 // that no second copy of a default can drift from the table; tests/unit/settings_test.cpp checks
@@ -64,6 +66,14 @@ struct ReflectionSettings {
     float distanceFadeEnd;
     bool multiBounce;
     bool probes;  // local probes in the fallback chain (off: screen space, then the sky)
+    bool cmos;    // CMOs in the chain, before the local probes
+    CmoTraceMode cmoTrace;
+    int cmoMaxIterations;
+    float cmoLinearStep;
+    float cmoThickness;
+    float cmoMaxDistance;
+    int cmoBounces;
+    float cmoMaxRoughness;
     Resolution resolution;
     GlossyMode glossy;
     bool temporal;
@@ -89,7 +99,11 @@ struct ReflectionInputs {
 struct ReflectionOutputs {
     TextureHandle lit;          // lit + reflection * DFG on reflective pixels (or a debug view)
     TextureHandle reflection;   // RGBA16F: rgb pre-Fresnel reflection radiance, a screen-space share
-    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky (sum 1), a reflected distance
+    TextureHandle method;       // RGBA16F: r screen space, g local probes, b sky, a CMOs (sum 1)
+    TextureHandle distance;     // R16F at the trace's size: the reflected distance the temporal pass
+                                // reprojects by (m; 0 unknown, kSkyDistance the sky)
+    TextureHandle cmo;          // RGBA16F at the trace's size: rgb radiance CMOs found, a first hit's distance (0 none)
+    TextureHandle cmoInfo;      // RGBA16F at the trace's size: iterations, CMO that hit (1-based), status, bounces
     TextureHandle hit;          // RGBA32F: xy hit pixel position, z hit depth (< 0 miss), w iterations
     TextureHandle hiz;          // RG32F pyramid: x farthest, y closest depth per cell (reversed-Z)
     TextureHandle visibility;   // R8 pre-integrated visibility pyramid

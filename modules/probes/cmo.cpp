@@ -1,0 +1,296 @@
+// CMOs (SPECULUM_reflection_probe kind cmo, seed 000): validation, the arrays, one face's
+// capture into them, the box mips of the radiance and the min/max distance hierarchy, the
+// records in trace order, and the update modes (as local probes'). A CMO face is captured with
+// the same passes as a local probe's (addCaptureFace: it sees the local probes' bake through
+// probes.capture_bounce), then probes.cmo_store writes colour, distance and the attributes a
+// hit is shaded with.
+#include "module_impl.hpp"
+
+#include "speculum/app/output.hpp"
+#include "speculum/core.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+namespace speculum::probes {
+namespace {
+
+using CmoRecord = shader::CmoRecord;
+// The tracer walks CMOs in order for every uncovered pixel; eight bounds that loop (and seed
+// 000 found that each CMO after the first few adds little).
+constexpr size_t kMaxCmos = 8;
+constexpr VkDeviceSize kMaxCmoBytes = VkDeviceSize(512) << 20;
+// Bytes per texel of the four arrays: RGBA16F + RG32F + RGBA16F + RGBA8.
+constexpr VkDeviceSize kCmoTexelBytes = 8 + 8 + 8 + 4;
+
+struct StorePush {
+    glm::mat4 invViewProj;
+    glm::vec4 center;
+    glm::uvec4 info;
+};
+
+std::vector<gpu::Binding> storeBindings() {
+    std::vector<gpu::Binding> b;
+    for (uint32_t i = 0; i < 11; ++i)
+        b.push_back({i,
+                     i == 6  ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                     : i > 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                             : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                     VK_SHADER_STAGE_COMPUTE_BIT});
+    return b;
+}
+
+std::vector<gpu::Unique<VkImageView>> mipViews(const gpu::Context& ctx, const gpu::Image& image) {
+    std::vector<gpu::Unique<VkImageView>> views;
+    for (uint32_t m = 0; m < image.desc().mips; ++m) {
+        VkImageViewCreateInfo v{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        v.image = image.get();
+        v.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+        v.format = image.desc().format;
+        v.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m, 1, 0, image.desc().layers};
+        VkImageView view;
+        gpu::check(vkCreateImageView(ctx.device(), &v, nullptr, &view), "vkCreateImageView");
+        views.emplace_back(ctx.device(), view, vkDestroyImageView);
+    }
+    return views;
+}
+
+}  // namespace
+
+void Probes::Impl::createCmos() {
+    CmoState& c = cmo.emplace(CmoState{});
+    const Scene& scene = renderer.scene();
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        const Node& n = scene.nodes[i];
+        if (!n.probe || n.probe->kind != ProbeKind::Cmo) continue;
+        ProbeInfo p = describeProbe(scene, int(i));
+        c.list.push_back({int(i), p.name, p.probe, glm::vec3(n.world[3]), 0});
+    }
+    // Trace order: higher `order` first, then the file's order.
+    std::stable_sort(c.list.begin(), c.list.end(),
+                     [](const CmoInfo& a, const CmoInfo& b) { return a.probe.order > b.probe.order; });
+    validateCmos();
+    for (size_t i = 0; i < c.list.size(); ++i) {
+        c.list[i].slot = uint32_t(i);
+        c.faceSize = std::max(c.faceSize, c.list[i].probe.resolution);
+    }
+    c.mips = uint32_t(std::bit_width(c.faceSize));  // down to 1x1: the hierarchy's top is one cell
+    const uint32_t layers = 6 * uint32_t(std::max<size_t>(c.list.size(), 1));
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                    VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    auto make = [&](VkFormat format, bool cube, const char* name) {
+        return gpu::Image(ctx, {c.faceSize, c.faceSize, format, c.mips, layers, cube, usage}, name);
+    };
+    c.radiance = make(VK_FORMAT_R16G16B16A16_SFLOAT, true, "probes.cmo.radiance");
+    c.distance = make(VK_FORMAT_R32G32_SFLOAT, false, "probes.cmo.distance");
+    c.attr = make(VK_FORMAT_R16G16B16A16_SFLOAT, false, "probes.cmo.attr");
+    c.albedo = make(VK_FORMAT_R8G8B8A8_UNORM, false, "probes.cmo.albedo");
+    c.radianceMips = mipViews(ctx, c.radiance);
+    c.distanceMips = mipViews(ctx, c.distance);
+    c.attrMips = mipViews(ctx, c.attr);
+    c.albedoMips = mipViews(ctx, c.albedo);
+    c.records = gpu::Buffer(ctx, sizeof(CmoRecord) * std::max<size_t>(c.list.size(), 1),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.cmo.records");
+    std::memset(c.records.mapped(), 0, c.records.size());
+    // Per material index (the G-buffer's): 1 for mirrors that reflect again (self-reflections).
+    std::vector<float> mirrors;
+    for (const Material& m : scene.materials) mirrors.push_back(reflectionsOf(m).mirrorForSelfReflections ? 1.0f : 0.0f);
+    mirrors.push_back(0.0f);  // glTF's default material
+    mirrors.resize(std::min<size_t>(mirrors.size(), render::kMaxIndexedMaterials + 1));
+    c.mirrorCount = uint32_t(mirrors.size());
+    c.mirrors = gpu::uploadBuffer(ctx, std::as_bytes(std::span(mirrors)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  "probes.cmo.mirrors");
+    c.store = gpu::createComputePipeline(ctx, "probes/cmo_store.comp", storeBindings(), sizeof(StorePush),
+                                         "probes.cmo_store");
+    c.reduce = gpu::createComputePipeline(ctx, "probes/cmo_reduce.comp",
+                                          {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                                           {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT}},
+                                          sizeof(glm::uvec4), "probes.cmo_hierarchy");
+    c.pending.assign(c.list.size(), false);
+    c.ready.assign(c.list.size(), false);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        // Far everywhere until captured: a CMO is traced only once its record is written.
+        VkClearColorValue far{};
+        far.float32[0] = far.float32[1] = float(SPECULUM_CMO_SKY_DISTANCE);
+        VkClearColorValue black{};
+        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+        for (const gpu::Image* image : {&c.radiance, &c.distance, &c.attr, &c.albedo}) {
+            gpu::transition(cmd, image->get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                            VK_IMAGE_LAYOUT_GENERAL);
+            vkCmdClearColorImage(cmd, image->get(), VK_IMAGE_LAYOUT_GENERAL, image == &c.distance ? &far : &black, 1,
+                                 &all);
+        }
+    });
+}
+
+void Probes::Impl::validateCmos() const {
+    const std::string file = renderer.scene().path.string();
+    const VkPhysicalDeviceLimits& limits = ctx.properties().limits;
+    const std::vector<CmoInfo>& list = cmo->list;
+    uint32_t largest = 16;
+    for (const CmoInfo& c : list) {
+        uint32_t res = c.probe.resolution;
+        const std::string where = c.name + ".extensions.SPECULUM_reflection_probe.resolution: " + std::to_string(res);
+        if (res < 16 || !std::has_single_bit(res))
+            throw inputError(file, where + " is not a power of two >= 16 (a CMO's distance hierarchy halves it to 1)");
+        if (res > limits.maxImageDimensionCube)
+            throw inputError(file, where + " exceeds the device's cube limit of " +
+                                       std::to_string(limits.maxImageDimensionCube) + " (" + ctx.deviceName() + ")");
+        largest = std::max(largest, res);
+    }
+    if (list.size() > kMaxCmos)
+        throw inputError(file, std::to_string(list.size()) + " CMOs; the tracer takes at most " +
+                                   std::to_string(kMaxCmos) + " (" + list[kMaxCmos].name + " is one too many)");
+    VkDeviceSize bytes = VkDeviceSize(largest) * largest * 6 * list.size() * kCmoTexelBytes * 4 / 3;
+    if (bytes > kMaxCmoBytes)
+        throw inputError(file, std::to_string(list.size()) + " CMOs at " + std::to_string(largest) +
+                                   "^2 faces take " + std::to_string(bytes >> 20) + " MiB, over the " +
+                                   std::to_string(kMaxCmoBytes >> 20) + " MiB budget: lower their resolution");
+}
+
+void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
+    CmoState& c = *cmo;
+    const CmoInfo& info = c.list[index];
+    const uint32_t res = info.probe.resolution;
+    const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+    const uint32_t layer = 6 * info.slot + face;
+    FrameGraph fg(FrameGraphConfig{res, res});
+    CaptureFace cap = addCaptureFace(fg, info.center, face, res);
+    auto import = [&](const gpu::Image& image, const char* name) {
+        return fg.importTexture(name, descOf(image),
+                                {image.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, image.desc().usage});
+    };
+    struct Store {
+        render::GBuffer g;
+        TextureHandle face, radiance, distance, attr, albedo;
+    };
+    const Subresource target{base, 1, layer, 1};
+    const auto& s = fg.addPass<Store>(
+        "probes.cmo_store", PassType::Compute,
+        [&](PassBuilder& pb, Store& d) {
+            d.g.depth = pb.read(cap.g.depth, TextureUsage::Sampled);
+            d.g.albedo = pb.read(cap.g.albedo, TextureUsage::Sampled);
+            d.g.normal = pb.read(cap.g.normal, TextureUsage::Sampled);
+            d.g.emissive = pb.read(cap.g.emissive, TextureUsage::Sampled);
+            if (cap.g.shadowMask.valid()) d.g.shadowMask = pb.read(cap.g.shadowMask, TextureUsage::Sampled);
+            d.face = pb.read(cap.face, TextureUsage::Sampled);
+            d.radiance = pb.write(import(c.radiance, "probes.cmo.radiance"), TextureUsage::StorageWrite, target);
+            d.distance = pb.write(import(c.distance, "probes.cmo.distance"), TextureUsage::StorageWrite, target);
+            d.attr = pb.write(import(c.attr, "probes.cmo.attr"), TextureUsage::StorageWrite, target);
+            d.albedo = pb.write(import(c.albedo, "probes.cmo.albedo"), TextureUsage::StorageWrite, target);
+        },
+        [this, &c, &info, frame = cap.frame, res, target](const Store& d, PassContext& pc) {
+            c.store.bind(pc.cmd());
+            // No shadowed light: the face's own flat 1 (the shadow mask's dummy is the renderer's).
+            VkImageView mask = d.g.shadowMask.valid() ? pc.view(d.g.shadowMask) : pc.view(d.face);
+            gpu::DescriptorWriter()
+                .sampled(0, pc.view(d.g.depth), nearest)
+                .sampled(1, pc.view(d.g.albedo), nearest)
+                .sampled(2, pc.view(d.g.normal), nearest)
+                .sampled(3, pc.view(d.g.emissive), nearest)
+                .sampled(4, pc.view(d.face), nearest)
+                .sampled(5, mask, nearest)
+                .buffer(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, c.mirrors.get())
+                .storage(7, pc.view(d.radiance, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage(8, pc.view(d.distance, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage(9, pc.view(d.attr, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage(10, pc.view(d.albedo, target, VK_IMAGE_VIEW_TYPE_2D))
+                .push(ctx, pc.cmd(), c.store);
+            StorePush p{frame.camera.invViewProj, glm::vec4(info.center, 0.0f),
+                        glm::uvec4(res, c.mirrorCount, d.g.shadowMask.valid() ? 1u : 0u, 0u)};
+            vkCmdPushConstants(pc.cmd(), c.store.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
+            vkCmdDispatch(pc.cmd(), (res + 7) / 8, (res + 7) / 8, 1);
+        });
+    fg.markOutput(s.radiance);
+    fg.markOutput(s.distance);
+    fg.markOutput(s.attr);
+    fg.markOutput(s.albedo);
+    runCapture(fg);
+}
+
+void Probes::Impl::finishCmo(size_t index) {
+    CmoState& c = *cmo;
+    const CmoInfo& info = c.list[index];
+    const uint32_t res = info.probe.resolution;
+    const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+    const uint32_t layer = 6 * info.slot;
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        for (uint32_t m = base + 1; m < c.mips; ++m) {
+            const uint32_t size = std::max(c.faceSize >> m, 1u);
+            gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                            VK_IMAGE_LAYOUT_GENERAL, m - 1, 1, layer, 6);
+            gpu::transition(cmd, c.distance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                            VK_IMAGE_LAYOUT_GENERAL, m - 1, 1, layer, 6);
+            // Radiance: a box mip for glossy rays' cone footprints.
+            VkImageBlit blit{};
+            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, layer, 6};
+            blit.srcOffsets[1] = {int32_t(size * 2), int32_t(size * 2), 1};
+            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, layer, 6};
+            blit.dstOffsets[1] = {int32_t(size), int32_t(size), 1};
+            vkCmdBlitImage(cmd, c.radiance.get(), VK_IMAGE_LAYOUT_GENERAL, c.radiance.get(), VK_IMAGE_LAYOUT_GENERAL, 1,
+                           &blit, VK_FILTER_LINEAR);
+            // Distance: min and max of the four cells below.
+            c.reduce.bind(cmd);
+            gpu::DescriptorWriter()
+                .image(0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, c.distanceMips[m - 1].get(),
+                       VK_IMAGE_LAYOUT_GENERAL, nearest.get())
+                .storage(1, c.distanceMips[m].get())
+                .push(ctx, cmd, c.reduce);
+            glm::uvec4 push(size, layer, 0u, 0u);
+            vkCmdPushConstants(cmd, c.reduce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+            vkCmdDispatch(cmd, (size + 7) / 8, (size + 7) / 8, 6);
+        }
+        gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+        gpu::transition(cmd, c.distance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+    });
+    c.ready[index] = true;
+    writeCmoRecords();
+}
+
+uint32_t Probes::Impl::writeCmoRecords() {
+    CmoState& c = *cmo;
+    auto* out = static_cast<CmoRecord*>(c.records.mapped());
+    uint32_t n = 0;
+    for (size_t i = 0; i < c.list.size(); ++i) {
+        if (!c.ready[i]) continue;
+        const CmoInfo& info = c.list[i];
+        const uint32_t res = info.probe.resolution;
+        const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+        out[n++] = {glm::vec4(info.center, float(res)),
+                    glm::vec4(float(6 * info.slot), float(base), float(std::bit_width(res)), 2.0f / float(res))};
+    }
+    return n;
+}
+
+void Probes::Impl::updateCmos(const Progress& progress) {
+    CmoState& c = *cmo;
+    std::vector<size_t> full, sliced;
+    for (size_t i = 0; i < c.list.size(); ++i) {
+        ProbeUpdate mode = c.list[i].probe.update;
+        bool start = !c.ready[i] && (mode == ProbeUpdate::Once || mode == ProbeUpdate::OnDemand);
+        if (start || c.pending[i] || mode == ProbeUpdate::EveryFrame || (!c.ready[i] && mode != ProbeUpdate::TimeSliced))
+            full.push_back(i);
+        else if (mode == ProbeUpdate::TimeSliced) sliced.push_back(i);
+    }
+    size_t done = 0, total = full.size() * 6;
+    for (size_t i : full) {
+        for (uint32_t f = 0; f < 6; ++f) {
+            captureCmoFace(i, f);
+            if (progress) progress(++done, total);
+        }
+        finishCmo(i);
+        c.pending[i] = false;
+    }
+    if (!sliced.empty()) {
+        size_t i = sliced[(c.slice / 6) % sliced.size()];
+        uint32_t face = uint32_t(c.slice % 6);
+        captureCmoFace(i, face);
+        if (face == 5) finishCmo(i);
+        ++c.slice;
+    }
+}
+
+}  // namespace speculum::probes
