@@ -73,16 +73,75 @@ float cmoTolerance(CmoRecord c, float d, float thickness) {
     return thickness + 4.0 * d * c.params.w;
 }
 
-// The parameter where |o + t r| = d going outward (the larger root), clamped to [lo, hi].
-float cmoCrossing(vec3 o, vec3 r, float d, float lo, float hi) {
-    float b = dot(o, r);
-    float disc = b * b - (dot(o, o) - d * d);
-    return clamp(-b + sqrt(max(disc, 0.0)), lo, hi);
+// The captured surface's distance toward q, bilinear between the four level-0 texel centres
+// around q on its face (clamped at the face's edges): a continuous surface where the texels
+// are a staircase, to confirm and place a crossing the staircase suggests.
+float cmoDistanceSmooth(CmoRecord c, vec3 q) {
+    int f = cmoFace(q);
+    int n = int(c.center.w);
+    vec2 st = vec2(dot(q, kCmoS[f]), dot(q, kCmoT[f])) / dot(q, kCmoM[f]);
+    vec2 x = (st * 0.5 + 0.5) * float(n) - 0.5;
+    ivec2 i0 = ivec2(floor(x));
+    vec2 w = x - vec2(i0);
+    ivec2 a = clamp(i0, ivec2(0), ivec2(n - 1)), b = clamp(i0 + 1, ivec2(0), ivec2(n - 1));
+    int layer = int(c.params.x) + f, base = int(c.params.y);
+    float d00 = texelFetch(cmoDistance, ivec3(a.x, a.y, layer), base).x;
+    float d10 = texelFetch(cmoDistance, ivec3(b.x, a.y, layer), base).x;
+    float d01 = texelFetch(cmoDistance, ivec3(a.x, b.y, layer), base).x;
+    float d11 = texelFetch(cmoDistance, ivec3(b.x, b.y, layer), base).x;
+    return mix(mix(d00, d10, w.x), mix(d01, d11, w.x), w.y);
 }
 
-// Hierarchical trace of o + t r, t in [t0, tMax], through CMO c. Returns kCmoHit (tHit set),
+// The refinement step: a crossing the staircase suggests between lo (in front) and hi, on the
+// smooth surface. Returns its t (bisection), -1 when the smooth surface has the ray still in
+// front at hi (a staircase step, not a crossing: go on), or -2 when the smooth crossing lies
+// deeper than the tolerance behind (a silhouette the ray passed behind).
+float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness) {
+    vec3 h = o + r * hi;
+    if (length(h) <= cmoDistanceSmooth(c, h)) return -1.0;
+    for (int k = 0; k < 8; ++k) {
+        float mid = 0.5 * (lo + hi);
+        vec3 m = o + r * mid;
+        if (length(m) > cmoDistanceSmooth(c, m)) hi = mid;
+        else lo = mid;
+    }
+    h = o + r * hi;
+    float d = cmoDistanceSmooth(c, h);
+    return length(h) - d <= cmoTolerance(c, d, thickness) ? hi : -2.0;
+}
+
+// Where a ray that starts on a surface the CMO captured leaves that surface. The CMO knows the
+// surface as a staircase of texels: seen at angle theta from its normal, one texel's step is
+// d * texelAngle * tan(theta) deep along the line of sight. The ray walks in steps of half the
+// footprint at its start (d times the texel angle) and starts where it is in front of the
+// staircase by one step (`margin`); while it lies behind by no more than a step plus the
+// tolerance it is still on its own surface. Deeper behind, or still not clear after 32 steps,
+// the CMO cannot see the start: -1 (unresolved). `n`: the start's surface normal, zero for a
+// ray in the open (it starts at once). Seed 000 used one constant bias and found it could not
+// be set; this is the per-ray start it asked for, from the distance and the texel's footprint.
+float cmoLeaveSurface(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float thickness, inout int iterations) {
+    float d0 = max(length(o), 1e-3);
+    float cosTheta = abs(dot(n, o)) / d0;
+    float tanTheta = min(sqrt(max(1.0 - cosTheta * cosTheta, 0.0)) / max(cosTheta, 0.125), 8.0);
+    float margin = dot(n, n) > 0.0 ? d0 * c.params.w * tanTheta : 0.0;
+    float step = 0.5 * d0 * c.params.w;
+    float t = 0.0;
+    for (int k = 0; k < 32; ++k) {
+        vec3 q = o + r * t;
+        float d = cmoDistanceAt(c, cmoTexel(c, q));
+        float behind = length(q) - d;
+        if (behind < -margin) return t;
+        if (behind > margin + cmoTolerance(c, d, thickness) || t >= tMax) return -1.0;
+        t += step;
+        ++iterations;
+    }
+    return -1.0;
+}
+
+// Hierarchical trace of o + t r, t in [0, tMax], through CMO c (from where it leaves its start's
+// surface, cmoLeaveSurface: n its normal, zero in the open). Returns kCmoHit (tHit set),
 // kCmoMiss or kCmoUnresolved; `iterations` counts cells visited (bounded by maxIterations).
-int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, float thickness, int maxIterations,
+int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float thickness, int maxIterations,
                          inout int iterations, out float tHit) {
     tHit = 0.0;
     int size = int(c.center.w);
@@ -90,12 +149,9 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, floa
     int base = int(c.params.y);
     int top = int(c.params.z) - 1;
     int level = min(2, top);
-    float t = t0;
-    {
-        // The start must lie in front of what the CMO saw there: behind it, the CMO cannot see
-        // the ray's start (or the start offset did not clear the surface's own texel).
-        if (length(o + r * t0) > cmoDistanceAt(c, cmoTexel(c, o + r * t0))) return kCmoUnresolved;
-    }
+    float t = cmoLeaveSurface(c, o, r, n, tMax, thickness, iterations);
+    if (t < 0.0) return kCmoUnresolved;
+    float tFront = t;
     for (int faces = 0; faces < 4 && t < tMax; ++faces) {
         vec3 q = o + r * t;
         int f = cmoFace(q);
@@ -126,6 +182,7 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, floa
             if (rayMax < D.x) {
                 // In front of everything this cell saw: skip it, look wider.
                 t = tb + nudge;
+                tFront = tb;
                 level = min(level + 1, top);
                 continue;
             }
@@ -133,16 +190,17 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, floa
                 --level;
                 continue;
             }
-            float d = D.x;
-            if (da > d) {
-                // Entered behind the texel's surface: the surface itself if the step is small.
-                if (da - d <= cmoTolerance(c, d, thickness)) {
-                    tHit = t;
-                    return kCmoHit;
-                }
-                return kCmoUnresolved;
+            // A texel the ray reaches: confirmed and placed on the smooth surface from where
+            // the ray was last known in front (tFront) to the texel's exit.
+            float th = cmoRefine(c, o, r, tFront, tb, thickness);
+            if (th == -1.0) {
+                t = tb + nudge;
+                tFront = tb;
+                level = min(level + 1, top);
+                continue;
             }
-            tHit = cmoCrossing(o, r, d, t, tb);
+            if (th < 0.0) return kCmoUnresolved;
+            tHit = th;
             return kCmoHit;
         }
         t = tFace + 1e-5 * (1.0 + tFace);
@@ -151,51 +209,31 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, floa
     return kCmoMiss;
 }
 
-// Constant-step trace: delta at every `step`, bisection of the first sign change, the same
-// tolerance for what the refined crossing may lie behind.
-int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, float t0, float tMax, float step, float thickness, int maxIterations,
+// Constant-step trace: delta at every `step` against the staircase; a sign change is confirmed
+// and placed by the same refinement step (cmoRefine) as the hierarchy's.
+int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float step, float thickness, int maxIterations,
                    inout int iterations, out float tHit) {
     tHit = 0.0;
-    if (length(o + r * t0) > cmoDistanceAt(c, cmoTexel(c, o + r * t0))) return kCmoUnresolved;
-    float prev = t0;
-    for (float t = t0 + step; iterations < maxIterations; t += step) {
+    float start = cmoLeaveSurface(c, o, r, n, tMax, thickness, iterations);
+    if (start < 0.0) return kCmoUnresolved;
+    float prev = start;
+    for (float t = start + step; iterations < maxIterations; t += step) {
         ++iterations;
         t = min(t, tMax);
         vec3 q = o + r * t;
         float d = cmoDistanceAt(c, cmoTexel(c, q));
         if (length(q) > d) {
-            float lo = prev, hi = t;
-            for (int k = 0; k < 8; ++k) {
-                float mid = 0.5 * (lo + hi);
-                vec3 m = o + r * mid;
-                if (length(m) > cmoDistanceAt(c, cmoTexel(c, m))) hi = mid;
-                else lo = mid;
-            }
-            vec3 h = o + r * hi;
-            float dh = cmoDistanceAt(c, cmoTexel(c, h));
-            // The refined point lies inside the texel's surface or its step at an edge.
-            if (length(h) - dh <= cmoTolerance(c, dh, thickness)) {
-                tHit = cmoCrossing(o, r, dh, lo, hi);
+            float th = cmoRefine(c, o, r, prev, t, thickness);
+            if (th >= 0.0) {
+                tHit = th;
                 return kCmoHit;
             }
-            return kCmoUnresolved;
+            if (th < -1.5) return kCmoUnresolved;
         }
         if (t >= tMax) return kCmoMiss;
         prev = t;
     }
     return kCmoUnresolved;
-}
-
-// Where a ray may start from a surface point p (normal n) that CMO c captured: the surface is
-// known only to a texel's footprint there (wider where the CMO sees it at a slant), so the ray
-// starts where it has left that footprint behind (seed 000 used one constant bias and found
-// it could not be set; this one is per ray).
-float cmoStartOffset(CmoRecord c, vec3 p, vec3 n, vec3 r) {
-    vec3 toP = p - c.center.xyz;
-    float dist = length(toP);
-    float slant = max(abs(dot(toP, n)) / max(dist, 1e-6), 0.2);
-    float footprint = dist * c.params.w / slant;
-    return min(1.5 * footprint / max(dot(r, n), 0.1), 0.5 * dist + 0.05);
 }
 
 #endif

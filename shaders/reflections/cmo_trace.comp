@@ -4,7 +4,7 @@
 // traced through the CMOs in their order (shaders/common/cmo.glsl: the hierarchical or the
 // linear tracer), a hit shaded for the reflected ray's direction, and self-reflections: a hit
 // on a mirror-masked surface reflects again, up to reflections.cmo_bounces, each ray with its
-// own start offset (cmoStartOffset). The resolve takes the result as the chain's second link.
+// own start where it leaves the surface (cmoLeaveSurface). The resolve takes the result as the chain's second link.
 #include "common/brdf.glsl"
 #include "engine/lighting_common.glsl"
 #include "engine/scene_lights.glsl"
@@ -113,12 +113,11 @@ void main() {
             for (uint i = 0u; i < rf.cmoCount && found < 0; ++i) {
                 CmoRecord c = cmos[i];
                 vec3 o = origin - c.center.xyz;
-                float t0 = cmoStartOffset(c, origin, normal, dir);
                 float th;
                 int status = kLinear != 0u
-                                 ? cmoTraceLinear(c, o, dir, t0, rf.cmoMaxDistance, rf.cmoLinearStep, rf.cmoThickness,
+                                 ? cmoTraceLinear(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoLinearStep, rf.cmoThickness,
                                                   maxIterations, iterations, th)
-                                 : cmoTraceHierarchical(c, o, dir, t0, rf.cmoMaxDistance, rf.cmoThickness,
+                                 : cmoTraceHierarchical(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoThickness,
                                                         maxIterations, iterations, th);
                 if (status == kCmoHit) {
                     found = int(i);

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -124,6 +126,44 @@ inline Frame renderFrame(const gpu::Context& ctx, Renderer& renderer, const Came
         frame.images[info.name] = gpu::decodeRGBA(info.desc.format, buffers[i].mapped(), n);
     }
     return frame;
+}
+
+// Vulkan cube face selection (spec, "Cube Map Face Selection"): face and (s, t) in [0, 1].
+inline uint32_t cubeFace(glm::dvec3 d, double& s, double& t) {
+    glm::dvec3 a = glm::abs(d);
+    double sc, tc, ma;
+    uint32_t face;
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x >= 0 ? 0 : 1;
+        ma = a.x;
+        sc = d.x >= 0 ? -d.z : d.z;
+        tc = -d.y;
+    } else if (a.y >= a.z) {
+        face = d.y >= 0 ? 2 : 3;
+        ma = a.y;
+        sc = d.x;
+        tc = d.y >= 0 ? d.z : -d.z;
+    } else {
+        face = d.z >= 0 ? 4 : 5;
+        ma = a.z;
+        sc = d.z >= 0 ? d.x : -d.x;
+        tc = -d.y;
+    }
+    s = 0.5 * (sc / ma + 1.0);
+    t = 0.5 * (tc / ma + 1.0);
+    return face;
+}
+
+struct Texel {
+    uint32_t face;
+    int x, y;
+};
+
+inline Texel cubeTexel(glm::dvec3 d, uint32_t res) {
+    double s, t;
+    uint32_t f = cubeFace(d, s, t);
+    auto clampi = [res](double v) { return std::clamp(int(std::floor(v * res)), 0, int(res) - 1); };
+    return {f, clampi(s), clampi(t)};
 }
 
 }  // namespace speculum::render::test
