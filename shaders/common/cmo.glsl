@@ -76,10 +76,11 @@ float cmoTolerance(CmoRecord c, float d, float thickness) {
 // The captured surface's distance toward q, bilinear between the four level-0 texel centres
 // around q on its face (clamped at the face's edges): a continuous surface where the texels
 // are a staircase, to confirm and place a crossing the staircase suggests.
-float cmoDistanceSmooth(CmoRecord c, vec3 q) {
-    int f = cmoFace(q);
+// The face is the caller's (f and its axes m, s, t): the refinement stays on the face it began
+// on (clamped at its edge), which keeps the dynamically indexed face tables out of its loop.
+float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
     int n = int(c.center.w);
-    vec2 st = vec2(dot(q, kCmoS[f]), dot(q, kCmoT[f])) / dot(q, kCmoM[f]);
+    vec2 st = vec2(dot(q, s), dot(q, t)) / max(dot(q, m), 1e-6);
     vec2 x = (st * 0.5 + 0.5) * float(n) - 0.5;
     ivec2 i0 = ivec2(floor(x));
     vec2 w = x - vec2(i0);
@@ -98,15 +99,17 @@ float cmoDistanceSmooth(CmoRecord c, vec3 q) {
 // deeper than the tolerance behind (a silhouette the ray passed behind).
 float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness) {
     vec3 h = o + r * hi;
-    if (length(h) <= cmoDistanceSmooth(c, h)) return -1.0;
-    for (int k = 0; k < 8; ++k) {
+    int f = cmoFace(h);
+    vec3 fm = kCmoM[f], fs = kCmoS[f], ft = kCmoT[f];
+    if (length(h) <= cmoDistanceSmooth(c, f, fm, fs, ft, h)) return -1.0;
+    for (int k = 0; k < 7; ++k) {
         float mid = 0.5 * (lo + hi);
-        vec3 m = o + r * mid;
-        if (length(m) > cmoDistanceSmooth(c, m)) hi = mid;
+        vec3 q = o + r * mid;
+        if (length(q) > cmoDistanceSmooth(c, f, fm, fs, ft, q)) hi = mid;
         else lo = mid;
     }
     h = o + r * hi;
-    float d = cmoDistanceSmooth(c, h);
+    float d = cmoDistanceSmooth(c, f, fm, fs, ft, h);
     return length(h) - d <= cmoTolerance(c, d, thickness) ? hi : -2.0;
 }
 
@@ -162,46 +165,51 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float 
         // The projected ray is a straight line on the face, monotonic in t (seed 000 theorem
         // 3.2): its direction in s and t has a fixed sign over the face.
         float dirS = rS * oM - oS * rM, dirT = rT * oM - oT * rM;
-        while (t < tFace && iterations < maxIterations) {
-            ++iterations;
-            int n = max(size >> level, 1);
-            q = o + r * t;
-            vec2 st = vec2(dot(q, S), dot(q, T)) / dot(q, M);
-            ivec2 cell = clamp(ivec2(floor((st * 0.5 + 0.5) * float(n))), ivec2(0), ivec2(n - 1));
-            // The cell's exit: the boundary plane ahead in s and in t (planes through the centre).
-            vec2 edge = (vec2(cell + ivec2(dirS > 0.0 ? 1 : 0, dirT > 0.0 ? 1 : 0)) / float(n)) * 2.0 - 1.0;
-            float ts = dirS != 0.0 ? -(oS - edge.x * oM) / (rS - edge.x * rM) : 1e30;
-            float tt = dirT != 0.0 ? -(oT - edge.y * oM) / (rT - edge.y * rM) : 1e30;
-            ts = ts > t ? ts : 1e30;
-            tt = tt > t ? tt : 1e30;
-            float tb = min(min(ts, tt), tFace);
-            vec2 D = texelFetch(cmoDistance, ivec3(cell, layer0 + f), base + level).xy;
-            float da = length(q), db = length(o + r * tb);
-            float rayMax = max(da, db);
-            float nudge = 1e-5 * (1.0 + tb);
-            if (rayMax < D.x) {
-                // In front of everything this cell saw: skip it, look wider.
-                t = tb + nudge;
-                tFront = tb;
-                level = min(level + 1, top);
-                continue;
+        // The walk stops at a level-0 texel the ray reaches (a candidate); the refinement runs
+        // outside the walk's loop (a SIMD CPU driver runs a loop body's every branch for all
+        // lanes while any lane needs it), and a staircase step resumes the walk.
+        for (;;) {
+            bool candidate = false;
+            float tb = t;
+            while (t < tFace && iterations < maxIterations) {
+                ++iterations;
+                int n = max(size >> level, 1);
+                q = o + r * t;
+                vec2 st = vec2(dot(q, S), dot(q, T)) / dot(q, M);
+                ivec2 cell = clamp(ivec2(floor((st * 0.5 + 0.5) * float(n))), ivec2(0), ivec2(n - 1));
+                // The cell's exit: the boundary plane ahead in s and in t (planes through the centre).
+                vec2 edge = (vec2(cell + ivec2(dirS > 0.0 ? 1 : 0, dirT > 0.0 ? 1 : 0)) / float(n)) * 2.0 - 1.0;
+                float ts = dirS != 0.0 ? -(oS - edge.x * oM) / (rS - edge.x * rM) : 1e30;
+                float tt = dirT != 0.0 ? -(oT - edge.y * oM) / (rT - edge.y * rM) : 1e30;
+                ts = ts > t ? ts : 1e30;
+                tt = tt > t ? tt : 1e30;
+                tb = min(min(ts, tt), tFace);
+                float dMin = texelFetch(cmoDistance, ivec3(cell, layer0 + f), base + level).x;
+                float rayMax = max(length(q), length(o + r * tb));
+                if (rayMax < dMin) {
+                    // In front of everything this cell saw: skip it, look wider.
+                    t = tb + 1e-5 * (1.0 + tb);
+                    tFront = tb;
+                    level = min(level + 1, top);
+                } else if (level > 0) {
+                    --level;
+                } else {
+                    candidate = true;
+                    break;
+                }
             }
-            if (level > 0) {
-                --level;
-                continue;
-            }
-            // A texel the ray reaches: confirmed and placed on the smooth surface from where
-            // the ray was last known in front (tFront) to the texel's exit.
+            if (!candidate) break;
+            // Confirmed and placed on the smooth surface from where the ray was last known in
+            // front (tFront) to the texel's exit.
             float th = cmoRefine(c, o, r, tFront, tb, thickness);
-            if (th == -1.0) {
-                t = tb + nudge;
-                tFront = tb;
-                level = min(level + 1, top);
-                continue;
+            if (th >= 0.0) {
+                tHit = th;
+                return kCmoHit;
             }
-            if (th < 0.0) return kCmoUnresolved;
-            tHit = th;
-            return kCmoHit;
+            if (th < -1.5) return kCmoUnresolved;
+            t = tb + 1e-5 * (1.0 + tb);
+            tFront = tb;
+            level = min(level + 1, top);
         }
         t = tFace + 1e-5 * (1.0 + tFace);
         if (iterations >= maxIterations) return kCmoUnresolved;
@@ -216,20 +224,28 @@ int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float step, 
     tHit = 0.0;
     float start = cmoLeaveSurface(c, o, r, n, tMax, thickness, iterations);
     if (start < 0.0) return kCmoUnresolved;
-    float prev = start;
-    for (float t = start + step; iterations < maxIterations; t += step) {
-        ++iterations;
-        t = min(t, tMax);
-        vec3 q = o + r * t;
-        float d = cmoDistanceAt(c, cmoTexel(c, q));
-        if (length(q) > d) {
-            float th = cmoRefine(c, o, r, prev, t, thickness);
-            if (th >= 0.0) {
-                tHit = th;
-                return kCmoHit;
+    float prev = start, t = start;
+    // As the hierarchy's: the loop finds a candidate, the refinement runs outside it.
+    for (;;) {
+        bool candidate = false;
+        while (iterations < maxIterations) {
+            ++iterations;
+            t = min(prev + step, tMax);
+            vec3 q = o + r * t;
+            if (length(q) > cmoDistanceAt(c, cmoTexel(c, q))) {
+                candidate = true;
+                break;
             }
-            if (th < -1.5) return kCmoUnresolved;
+            if (t >= tMax) return kCmoMiss;
+            prev = t;
         }
+        if (!candidate) return kCmoUnresolved;
+        float th = cmoRefine(c, o, r, prev, t, thickness);
+        if (th >= 0.0) {
+            tHit = th;
+            return kCmoHit;
+        }
+        if (th < -1.5) return kCmoUnresolved;
         if (t >= tMax) return kCmoMiss;
         prev = t;
     }
