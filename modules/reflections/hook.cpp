@@ -32,7 +32,7 @@ app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings
         probes::ProbeSet set = probes ? probes->addPasses(graph, s.probes, s.cmos) : probes::ProbeSet{};
         ReflectionOutputs out = module.addPasses(graph, {gbuffer, lit, frame, set}, s, hizView);
         aovs.provided["reflection"] = {out.reflection, 3};
-        aovs.provided["method"] = {out.method, 3};
+        aovs.provided["method"] = {out.method, 4};
         aovs.provided["iterations"] = {out.hit, 1, 3};
         // xy hit pixel, z hit depth (< 0: the miss code of shaders/reflections/trace.comp), w iterations.
         aovs.provided["hit"] = {out.hit, 4};

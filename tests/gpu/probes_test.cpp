@@ -405,10 +405,12 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
                 float d = depth[i * 4];
                 geometry += d > 0.0f;
                 const float* m = &method[i * 4];
-                if (m[3] < 0.5f) continue;  // alpha 1: a reflective pixel
+                // r screen space, g probes, b sky, a CMOs: all zero where nothing reflects.
+                float sum = m[0] + m[1] + m[2] + m[3];
+                if (sum < 0.5f) continue;
                 ++reflective;
-                negative += m[0] < 0.0f || m[1] < 0.0f || m[2] < 0.0f;
-                float err = std::abs(m[0] + m[1] + m[2] - 1.0f);
+                negative += m[0] < 0.0f || m[1] < 0.0f || m[2] < 0.0f || m[3] < 0.0f;
+                float err = std::abs(sum - 1.0f);
                 worstSum = std::max(worstSum, err);
                 badSum += err > 1e-3f;
                 probeShare += m[1];
@@ -424,14 +426,14 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
                 if (m[0] < 1.0f - 1e-3f) (m[1] >= m[2] ? probesLead : probesTrail)++;
             }
         std::cout << "[probes] " << name << " method: " << reflective << " reflective of " << geometry
-                  << " geometry pixels, worst |r+g+b-1| " << worstSum << ", mean g " << probeShare / double(reflective);
+                  << " geometry pixels, worst |r+g+b+a-1| " << worstSum << ", mean g " << probeShare / double(reflective);
         if (std::string(name) == "closed_room")
             std::cout << ", in volume " << inVolume << " (worst b " << worstSky << ", g dominates on " << probesLead
                       << ", not on " << probesTrail << ")";
         std::cout << "\n";
         EXPECT_GE(reflective * 2, geometry) << name << ": every lit material reflects";
         EXPECT_EQ(negative, 0u) << name;
-        EXPECT_EQ(badSum, 0u) << name << ": worst |r+g+b-1| " << worstSum;
+        EXPECT_EQ(badSum, 0u) << name << ": worst |r+g+b+a-1| " << worstSum;
         EXPECT_GT(probeShare / double(reflective), 0.05) << name << ": the probes take part";
         if (std::string(name) == "closed_room") {
             EXPECT_GE(inVolume * 10, reflective * 9) << "closed_room is one probe volume";

@@ -35,6 +35,14 @@ TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
     EXPECT_FLOAT_EQ(s.distanceFadeEnd, table.getFloat("reflections.distance_fade_end"));
     EXPECT_EQ(s.multiBounce, table.getBool("reflections.multi_bounce"));
     EXPECT_EQ(s.probes, table.getBool("reflections.probes"));
+    EXPECT_EQ(s.cmos, table.getBool("reflections.cmos"));
+    EXPECT_EQ(int(s.cmoTrace), table.getInt("reflections.cmo_trace"));
+    EXPECT_EQ(s.cmoMaxIterations, table.getInt("reflections.cmo_max_iterations"));
+    EXPECT_FLOAT_EQ(s.cmoLinearStep, table.getFloat("reflections.cmo_linear_step"));
+    EXPECT_FLOAT_EQ(s.cmoThickness, table.getFloat("reflections.cmo_thickness"));
+    EXPECT_FLOAT_EQ(s.cmoMaxDistance, table.getFloat("reflections.cmo_max_distance"));
+    EXPECT_EQ(s.cmoBounces, table.getInt("reflections.cmo_bounces"));
+    EXPECT_FLOAT_EQ(s.cmoMaxRoughness, table.getFloat("reflections.cmo_max_roughness"));
     EXPECT_EQ(int(s.resolution), table.getInt("reflections.resolution"));
     EXPECT_EQ(int(s.glossy), table.getInt("reflections.glossy"));
     EXPECT_EQ(s.temporal, table.getBool("reflections.temporal"));
