@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <limits>
 
 namespace speculum::probes {
 namespace {
@@ -54,6 +55,49 @@ std::vector<gpu::Unique<VkImageView>> mipViews(const gpu::Context& ctx, const gp
         views.emplace_back(ctx.device(), view, vkDestroyImageView);
     }
     return views;
+}
+
+// How many of 14 rays from `center` (the axes and the cube's diagonals) first meet a triangle
+// from behind (a single-sided one: double-sided materials face both ways). A point inside a
+// closed mesh sees only back faces: the renderer culls them, so a CMO there would capture
+// whatever lies beyond the mesh and trace a world that is not there.
+int backFacesSeen(const Scene& scene, glm::vec3 center) {
+    std::vector<glm::vec3> dirs = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int i = 0; i < 8; ++i)
+        dirs.push_back(glm::normalize(glm::vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1)));
+    std::vector<float> nearest(dirs.size(), std::numeric_limits<float>::infinity());
+    std::vector<bool> back(dirs.size(), false);
+    for (const Instance& inst : scene.instances) {
+        const bool mirrored = glm::determinant(glm::mat3(inst.world)) < 0.0f;
+        for (const Primitive& prim : scene.meshes.at(size_t(inst.mesh)).primitives) {
+            bool twoSided = prim.material >= 0 && size_t(prim.material) < scene.materials.size() &&
+                            scene.materials[size_t(prim.material)].doubleSided;
+            for (size_t k = 0; k + 2 < prim.indices.size(); k += 3) {
+                glm::vec3 a = glm::vec3(inst.world * glm::vec4(prim.vertices[prim.indices[k]].position, 1.0f));
+                glm::vec3 b = glm::vec3(inst.world * glm::vec4(prim.vertices[prim.indices[k + 1]].position, 1.0f));
+                glm::vec3 c = glm::vec3(inst.world * glm::vec4(prim.vertices[prim.indices[k + 2]].position, 1.0f));
+                glm::vec3 e1 = b - a, e2 = c - a;
+                glm::vec3 n = glm::cross(e1, e2) * (mirrored ? -1.0f : 1.0f);  // front: counter-clockwise
+                for (size_t d = 0; d < dirs.size(); ++d) {
+                    // Moller-Trumbore.
+                    glm::vec3 pv = glm::cross(dirs[d], e2);
+                    float det = glm::dot(e1, pv);
+                    if (std::abs(det) < 1e-12f) continue;
+                    glm::vec3 tv = center - a;
+                    float u = glm::dot(tv, pv) / det;
+                    if (u < 0.0f || u > 1.0f) continue;
+                    glm::vec3 qv = glm::cross(tv, e1);
+                    float v = glm::dot(dirs[d], qv) / det;
+                    if (v < 0.0f || u + v > 1.0f) continue;
+                    float t = glm::dot(e2, qv) / det;
+                    if (t <= 1e-5f || t >= nearest[d]) continue;
+                    nearest[d] = t;
+                    back[d] = !twoSided && glm::dot(n, dirs[d]) > 0.0f;
+                }
+            }
+        }
+    }
+    return int(std::count(back.begin(), back.end(), true));
 }
 
 }  // namespace
@@ -109,6 +153,7 @@ void Probes::Impl::createCmos() {
                                           sizeof(glm::uvec4), "probes.cmo_hierarchy");
     c.pending.assign(c.list.size(), false);
     c.ready.assign(c.list.size(), false);
+    c.blind.assign(c.list.size(), false);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         // Far everywhere until captured: a CMO is traced only once its record is written.
         VkClearColorValue far{};
@@ -138,6 +183,12 @@ void Probes::Impl::validateCmos() const {
             throw inputError(file, where + " exceeds the device's cube limit of " +
                                        std::to_string(limits.maxImageDimensionCube) + " (" + ctx.deviceName() + ")");
         largest = std::max(largest, res);
+    }
+    for (const CmoInfo& c : list) {
+        int back = backFacesSeen(renderer.scene(), c.center);
+        if (back >= 10)
+            throw inputError(file, c.name + ": the CMO's centre is inside geometry (" + std::to_string(back) +
+                                       " of 14 rays from it meet a back face first): move it into the open");
     }
     if (list.size() > kMaxCmos)
         throw inputError(file, std::to_string(list.size()) + " CMOs; the tracer takes at most " +
@@ -218,8 +269,11 @@ void Probes::Impl::finishCmo(size_t index) {
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (uint32_t m = base + 1; m < c.mips; ++m) {
             const uint32_t size = std::max(c.faceSize >> m, 1u);
+            // The blit's own layouts (GENERAL is allowed, and the validation layers warn about it).
             gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
-                            VK_IMAGE_LAYOUT_GENERAL, m - 1, 1, layer, 6);
+                            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m - 1, 1, layer, 6);
+            gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, m, 1, layer, 6);
             gpu::transition(cmd, c.distance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
                             VK_IMAGE_LAYOUT_GENERAL, m - 1, 1, layer, 6);
             // Radiance: a box mip for glossy rays' cone footprints.
@@ -228,8 +282,12 @@ void Probes::Impl::finishCmo(size_t index) {
             blit.srcOffsets[1] = {int32_t(size * 2), int32_t(size * 2), 1};
             blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, layer, 6};
             blit.dstOffsets[1] = {int32_t(size), int32_t(size), 1};
-            vkCmdBlitImage(cmd, c.radiance.get(), VK_IMAGE_LAYOUT_GENERAL, c.radiance.get(), VK_IMAGE_LAYOUT_GENERAL, 1,
-                           &blit, VK_FILTER_LINEAR);
+            vkCmdBlitImage(cmd, c.radiance.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, c.radiance.get(),
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+            gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                            VK_IMAGE_LAYOUT_GENERAL, m - 1, 1, layer, 6);
+            gpu::transition(cmd, c.radiance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                            VK_IMAGE_LAYOUT_GENERAL, m, 1, layer, 6);
             // Distance: min and max of the four cells below.
             c.reduce.bind(cmd);
             gpu::DescriptorWriter()
@@ -246,6 +304,20 @@ void Probes::Impl::finishCmo(size_t index) {
         gpu::transition(cmd, c.distance.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
                         VK_IMAGE_LAYOUT_GENERAL);
     });
+    // A CMO whose faces saw only sky (its top cells' nearest surface is the sky) would trace
+    // nothing: it is left out of the chain, with a warning (the documented fallback).
+    bool seesSomething = false;
+    for (uint32_t f = 0; f < 6 && !seesSomething; ++f)
+        seesSomething = gpu::readImageRGBA(ctx, c.distance.get(), c.distance.desc(), VK_IMAGE_LAYOUT_GENERAL,
+                                           c.mips - 1, layer + f)[0] < 0.5f * float(SPECULUM_CMO_SKY_DISTANCE);
+    if (!seesSomething) {
+        if (!c.blind[index])
+            logWarning(renderer.scene().path.string() + ": " + info.name +
+                       ": the CMO sees nothing (every face is sky); it is left out of CMO tracing");
+        c.blind[index] = true;
+        return;
+    }
+    c.blind[index] = false;
     c.ready[index] = true;
     writeCmoRecords();
 }
@@ -270,9 +342,9 @@ void Probes::Impl::updateCmos(const Progress& progress) {
     std::vector<size_t> full, sliced;
     for (size_t i = 0; i < c.list.size(); ++i) {
         ProbeUpdate mode = c.list[i].probe.update;
-        bool start = !c.ready[i] && (mode == ProbeUpdate::Once || mode == ProbeUpdate::OnDemand);
-        if (start || c.pending[i] || mode == ProbeUpdate::EveryFrame || (!c.ready[i] && mode != ProbeUpdate::TimeSliced))
-            full.push_back(i);
+        // Not yet baked (a blind CMO counts as baked: it is not captured again unless asked).
+        bool start = !c.ready[i] && !c.blind[i] && mode != ProbeUpdate::TimeSliced;
+        if (start || c.pending[i] || mode == ProbeUpdate::EveryFrame) full.push_back(i);
         else if (mode == ProbeUpdate::TimeSliced) sliced.push_back(i);
     }
     size_t done = 0, total = full.size() * 6;

@@ -58,6 +58,7 @@ struct Probes::Impl {
         uint32_t mirrorCount = 1;
         gpu::Pipeline store, reduce;
         std::vector<bool> pending, ready;
+        std::vector<bool> blind;  // baked and saw only sky: left out of tracing
         size_t slice = 0;
     };
     std::optional<CmoState> cmo;

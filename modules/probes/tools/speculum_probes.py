@@ -37,6 +37,7 @@ import math
 import os
 import shutil
 import struct
+import subprocess
 import sys
 import tempfile
 import time
@@ -632,6 +633,29 @@ class Measurer:
             info = json.loads((ref_dir / "reference.json").read_text())
             self.refs[v] = (ref_dir, info["exposure"])
             log(f"placement: reference {v} {args.size} {args.spp} spp{' (cached)' if cached else ''}")
+        # --max-roughness: score only pixels below it (the roughness AOV does not change with CMOs).
+        self.rough = {}
+        if args.max_roughness is not None:
+            for v in view_names:
+                out = work / f"roughness_{v.replace('/', '_')}"
+                out.mkdir(parents=True, exist_ok=True)
+                cmd = [tools.capture, "--scene", str(src), "--camera", v, "--size", args.size, "--warmup", "0",
+                       "--aov", "roughness", "--out", str(out)]
+                if bench.run(cmd, out / "log.txt") != 0:
+                    raise RuntimeError(f"roughness capture failed for {v}; see {out / 'log.txt'}")
+                self.rough[v] = bench.last_frame(out, "roughness")
+
+    def score(self, v, image, ref_dir, exposure, heatmap):
+        if v not in self.rough:
+            return self.bench.score(self.tools, image, ref_dir, "reflection", exposure, heatmap)
+        cmd = [self.tools.metrics, "compare", "--test", str(image), "--ref", str(ref_dir / "reflection.0000.exr"),
+               "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(image),
+               "--scale", str(exposure), "--band-image", str(self.rough[v]),
+               "--bands", f"0,{self.args.max_roughness:g}"]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            raise RuntimeError(f"speculum-metrics failed: {r.stderr.strip()}")
+        return json.loads(r.stdout)["bands"][0]
 
     @staticmethod
     def guard(fn, what):
@@ -662,8 +686,7 @@ class Measurer:
             image, refl_ms, _, _ = self.guard(lambda: self.bench.capture(
                 self.tools, view, self.args.size, self.args.set, "reflection", self.suite, out), f"capture {v}")
             ref_dir, exposure = self.refs[v]
-            m = self.guard(lambda: self.bench.score(self.tools, image, ref_dir, "reflection", exposure,
-                                                     out / "heatmap.png"), f"score {v}")
+            m = self.guard(lambda: self.score(v, image, ref_dir, exposure, out / "heatmap.png"), f"score {v}")
             per_view[v] = m["psnr_db"] if m["psnr_db"] is not None else float("nan")
             ms_sum += refl_ms
         vals = list(per_view.values())
@@ -1006,6 +1029,9 @@ def main(argv=None):
     pl.add_argument("--grid", type=int, default=48, help="sample rays across each view (default 48)")
     pl.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="engine setting for every capture (repeatable)")
+    pl.add_argument("--max-roughness", type=float,
+                    help="score only pixels whose roughness is below this (CMOs trace up to "
+                         "reflections.cmo_max_roughness; default: every reflective pixel)")
     pl.add_argument("--kind", choices=("cmo", "local_cubemap"), default="cmo",
                     help="probe kind written (default cmo; local_cubemap measures the loop with local "
                          "cubemaps as a stand-in)")

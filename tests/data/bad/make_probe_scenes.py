@@ -20,15 +20,25 @@ def triangle_buffer():
     return data
 
 
-def scene(probes):
+def cube_buffer():
+    """A closed cube [-1, 1]^3, outward counter-clockwise faces (no normals: the loader makes them)."""
+    positions = [(x, y, z) for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    indices = []
+    for a, b, c, d in quads:
+        indices += [a, b, c, a, c, d]
+    return positions, indices
+
+
+def scene(probes, closed_cube=False, probe_at=(0, 1, 0)):
     data = triangle_buffer()
     nodes = [{"name": "triangle", "mesh": 0},
              {"name": "main", "camera": 0, "translation": [0, 2, 4]}]
     for name, ext in probes:
-        node = {"name": name, "translation": [0, 1, 0],
+        node = {"name": name, "translation": list(probe_at),
                 "extensions": {"SPECULUM_reflection_probe": ext}}
         nodes.append(node)
-    return {
+    doc = {
         "asset": {"version": "2.0", "generator": "speculum tests (make_probe_scenes.py)"},
         "extensionsUsed": ["SPECULUM_reflection_probe"],
         "buffers": [{"byteLength": len(data),
@@ -48,10 +58,29 @@ def scene(probes):
         "scenes": [{"nodes": list(range(len(nodes)))}],
         "scene": 0,
     }
+    if closed_cube:
+        # The triangle's buffer replaced by a closed cube's (positions, then indices).
+        positions, indices = cube_buffer()
+        data = b"".join(struct.pack("<3f", *q) for q in positions) + struct.pack("<%dI" % len(indices), *indices)
+        doc["buffers"] = [{"byteLength": len(data),
+                           "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}]
+        doc["bufferViews"] = [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
+                              {"buffer": 0, "byteOffset": 96, "byteLength": 4 * len(indices)}]
+        doc["accessors"] = [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                             "min": [-1, -1, -1], "max": [1, 1, 1]},
+                            {"bufferView": 1, "componentType": 5125, "count": len(indices), "type": "SCALAR"}]
+        doc["meshes"] = [{"name": "cube", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}]
+    return doc
 
 
 def probe(**fields):
     ext = {"kind": "local_cubemap", "shape": "box", "extents": [2, 1, 2], "resolution": 8}
+    ext.update(fields)
+    return ext
+
+
+def cmo(**fields):
+    ext = {"kind": "cmo", "resolution": 16}
     ext.update(fields)
     return ext
 
@@ -65,11 +94,26 @@ SCENES = {
     "probe_too_many.gltf": [("probe.%02d" % i, probe()) for i in range(65)],
     # Three 4096^2 probes: 3 x 6 faces x 4096^2 x 8 bytes x 4/3 (mips) = 3072 MiB, over 1024 MiB.
     "probe_over_budget.gltf": [("probe.big%d" % i, probe(resolution=4096)) for i in range(3)],
+    # A CMO below 16 px (its hierarchy halves it to 1): exit 3 naming the node.
+    "cmo_resolution_small.gltf": [("cmo.tiny", cmo(resolution=8))],
+    # Nine CMOs: the tracer takes eight.
+    "cmo_too_many.gltf": [("cmo.%d" % i, cmo()) for i in range(9)],
+}
+
+# Scenes with their own geometry or placement: name -> (probes, scene() keywords).
+SPECIAL = {
+    # A CMO at the centre of a closed cube: every ray from it meets a back face first.
+    "cmo_inside_box.gltf": ([("cmo.buried", cmo())], {"closed_cube": True, "probe_at": (0, 0, 0)}),
+    # A CMO under the single-sided triangle: it sees the triangle's back (culled), so nothing but
+    # sky; the documented fallback leaves it out of tracing with a warning.
+    "cmo_sees_nothing.gltf": ([("cmo.blind", cmo())], {"probe_at": (0, -1, 0)}),
 }
 
 if __name__ == "__main__":
-    for name, probes in SCENES.items():
+    every = {name: (probes, {}) for name, probes in SCENES.items()}
+    every.update(SPECIAL)
+    for name, (probes, kw) in every.items():
         with open(os.path.join(HERE, name), "w") as f:
-            json.dump(scene(probes), f, indent=1)
+            json.dump(scene(probes, **kw), f, indent=1)
             f.write("\n")
         print("wrote", name)
