@@ -741,6 +741,64 @@ def build_cornell():
     ])
 
 
+
+def build_mirror_hall():
+    """Hall 6 m (x) x 3 m (y) x 5 m (z): x in [-3, 3], y in [0, 3], z in [-2.5, 2.5], two wall
+    mirrors facing each other across x (the nested reflections of CMO self-reflections), a
+    glossy red ball and a yellow pillar between them, one CMO and one local probe."""
+    g = Gltf("mirror_hall")
+    W, H, D = 3.0, 3.0, 2.5
+    g.material("hall.floor", (0.45, 0.45, 0.42), 0.0, 0.8)
+    g.material("hall.ceiling", (0.8, 0.8, 0.78), 0.0, 0.9)
+    g.material("hall.blue", (0.15, 0.25, 0.6), 0.0, 0.85)
+    g.material("hall.beige", (0.75, 0.6, 0.4), 0.0, 0.85)
+    g.material("hall.frame", (0.2, 0.2, 0.2), 0.0, 0.7)
+    g.material("hall.mirror", (0.95, 0.95, 0.95), 1.0, 0.0, reflections=mirror_ext(mirrorForSelfReflections=True))
+    g.material("ball.red", (0.8, 0.06, 0.05), 0.0, 0.2, reflections=mirror_ext())
+    g.material("pillar.yellow", (0.85, 0.65, 0.08), 0.0, 0.6)
+    LAP = 0.02
+    for name, mat, corner, eu, ev, facing in (
+            ("hall.floor", "hall.floor", (-W - LAP, 0, -D - LAP), (2 * W + 2 * LAP, 0, 0), (0, 0, 2 * D + 2 * LAP), (0, 1, 0)),
+            ("hall.ceiling", "hall.ceiling", (-W - LAP, H, -D - LAP), (2 * W + 2 * LAP, 0, 0), (0, 0, 2 * D + 2 * LAP), (0, -1, 0)),
+            ("hall.back", "hall.blue", (-W - LAP, -LAP, -D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, 1)),
+            ("hall.front", "hall.beige", (-W - LAP, -LAP, D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, -1)),
+            ("hall.left", "hall.frame", (-W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (1, 0, 0)),
+            ("hall.right", "hall.frame", (W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (-1, 0, 0))):
+        m = MeshData()
+        m.quad(corner, eu, ev, facing=facing)
+        g.object(name, m, mat)
+    # The mirrors: 4 m x 2.2 m, 5 cm in front of the side walls.
+    for name, x, facing in (("mirror.left", -W + 0.05, (1, 0, 0)), ("mirror.right", W - 0.05, (-1, 0, 0))):
+        m = MeshData()
+        m.quad((x, 0.4, -2.0), (0, 0, 4.0), (0, 2.2, 0), facing=facing)
+        g.object(name, m, "hall.mirror")
+    m = MeshData()
+    m.uv_sphere(0.35, 64, 32)
+    g.object("ball", m, "ball.red", translation=(-0.6, 0.9, 0.8))
+    m = MeshData()
+    m.box((0.0, 0.0, 0.0), (0.15, 0.6, 0.15))
+    g.object("pillar", m, "pillar.yellow", translation=(0.8, 0.6, -1.2))
+    g.light("lamp", "point", 10.0, LAMP_COLOR, position=(0.0, H - 0.3, 0.0))
+    # The room as one probe (the fallback under the CMO), and one CMO at the hall's centre,
+    # 1.5 m from both mirrors, which it sees whole (self-reflections bounce between them).
+    g.probe("reflection_probe.hall", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
+            extents=[W, H / 2, D], blendDistance=0.25, resolution=128, update="once", order=0)
+    g.probe("cmo.hall", (0.0, 1.5, 0.0), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
+            resolution=256, update="once", order=1)
+    g.camera("main", (-2.2, 1.6, 1.8), (2.95, 1.3, -0.5))
+    # Straight into the right mirror: the nested corridor of reflections between the two.
+    g.camera("facing", (-1.0, 1.5, 0.3), (W, 1.5, 0.0))
+    # The ball is behind these two (screen space cannot see it), in the right mirror; the lamp's
+    # highlight on it moves as the camera moves 0.5 m sideways.
+    g.camera("highlight_a", (1.0, 1.3, 0.5), (W, 1.0, 0.2))
+    g.camera("highlight_b", (1.0, 1.3, 0.0), (W, 1.0, -0.3))
+    g.write({"environment": "../env/interior.exr", "exposure": 0.5})
+    write_path("mirror_hall", [
+        ((-2.2, 1.6, 1.8), (2.95, 1.3, -0.5)),
+        ((-1.0, 1.5, 0.3), (2.95, 1.5, 0.0)),
+        ((1.0, 1.3, 0.5), (2.95, 1.0, 0.2)),
+    ])
+
 def build_failure_cases():
     """Open mirror-floor stage, x in [-6, 6], z in [-6, 6], back wall at z = -5.5."""
     g = Gltf("failure_cases")
@@ -1465,7 +1523,7 @@ def check_path(name, lo, hi):
         require(length(sub(k["target"], k["eye"])) > 0.1, "path %s: eye == target" % name)
 
 
-SCENES = ("gallery", "cornell_mirrors", "failure_cases", "closed_room", "plain_metals")
+SCENES = ("gallery", "cornell_mirrors", "failure_cases", "closed_room", "plain_metals", "mirror_hall")
 SEALED = ("closed_room",)  # no ray from inside, direct or mirrored, may reach the sky
 PLAIN = ("plain_metals",)  # no Speculum extension at all, like a plain Blender export
 
@@ -1481,6 +1539,7 @@ def main():
         build_closed_room()
         build_plain_metals()
         build_blender_repro()
+        build_mirror_hall()
         for n in SCENES:
             print("wrote assets/scenes/%s.gltf, .bin and assets/paths/%s.json" % (n, n))
         print("wrote assets/blender/" + BLENDER_FILE)

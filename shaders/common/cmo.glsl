@@ -90,6 +90,11 @@ float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
     float d10 = texelFetch(cmoDistance, ivec3(b.x, a.y, layer), base).x;
     float d01 = texelFetch(cmoDistance, ivec3(a.x, b.y, layer), base).x;
     float d11 = texelFetch(cmoDistance, ivec3(b.x, b.y, layer), base).x;
+    // Across a silhouette (neighbours further apart than a surface at 83 degrees to the line of
+    // sight steps, 8 texel footprints) no surface joins them: a bilinear sheet there would
+    // catch every ray that passes behind the nearer object. The texel's own distance instead.
+    float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
+    if (hi > lo * (1.0 + 8.0 * c.params.w)) return w.y < 0.5 ? (w.x < 0.5 ? d00 : d10) : (w.x < 0.5 ? d01 : d11);
     return mix(mix(d00, d10, w.x), mix(d01, d11, w.x), w.y);
 }
 
