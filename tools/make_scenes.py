@@ -514,6 +514,23 @@ class Gltf:
             f.write(bytes(self.bin))
 
 
+PLACEMENT_DIR = os.path.join(ROOT, "assets", "placement")
+
+
+def add_placed_cmos(g):
+    """The CMOs `speculum-probes place` proposed for this scene (assets/placement/NAME.placement.json,
+    its report, committed beside its markdown), as nodes: the generator writes what the tool
+    measured, so a regenerated scene keeps them."""
+    path = os.path.join(PLACEMENT_DIR, g.name + ".placement.json")
+    if not os.path.isfile(path):
+        return
+    with open(path, "r", encoding="utf-8") as f:
+        report = json.load(f)
+    for i, c in enumerate(report["final"]["cmos"]):
+        g.probe("cmo.placed%d" % i, tuple(c["pos"]), kind="cmo", shape="box", extents=[0.25, 0.25, 0.25],
+                blendDistance=0.0, resolution=c["resolution"], update="once", order=c["order"])
+
+
 def mirror_ext(**over):
     e = {"mode": "screen_space", "maxScreenSpaceRoughness": 0.6}
     e.update(over)
@@ -647,6 +664,7 @@ def build_gallery():
     g.camera("concave_mirror", (0.9, 1.5, -1.8), (-0.6, 2.15, -3.85))
     # Exposures put each main view's mean linear radiance near 0.3 so walls and reflections do
     # not clip in the tonemapper (measured from speculum-capture --aov linear at exposure 1).
+    add_placed_cmos(g)
     g.write({"environment": "../env/sunset.exr", "exposure": 0.35})
 
     write_path("gallery", [
@@ -732,6 +750,7 @@ def build_cornell():
     g.camera("concave_close", (0.55, 1.6, -0.3), (0.0, 2.05, -1.45))
     g.camera("knot_close", (0.35, 1.0, 0.55), (0.0, 0.75, -0.85))
     g.camera("blob_close", (0.2, 1.05, 0.45), (0.95, 0.5, -0.3))
+    add_placed_cmos(g)
     g.write({"environment": "../env/interior.exr", "exposure": 0.4})
 
     write_path("cornell_mirrors", [

@@ -775,6 +775,10 @@ def place(args, tools, log):
         cur = meas.measure(current)
         baseline = cur
         record("baseline", "the scene as given (no CMO added)", current, cur, True, None)
+        if args.gain_db is not None:
+            # The budget as a gain over the scene as given (its own baseline measured first).
+            args.budget_db = baseline["mean"] + args.gain_db
+            log(f"placement: budget {args.budget_db:.2f} dB (baseline {baseline['mean']:.2f} + {args.gain_db:g})")
 
         # ADD (and MOVE the one added) until the budget is met
         while not meets(cur) and len(current) < args.max_cmos:
@@ -870,7 +874,8 @@ def place(args, tools, log):
                                     args.kind, bin_uri)
         write_atomic(out_path, text=dump(final_doc))
         report = {"scene": str(src), "out": str(out_path), "budget_db": args.budget_db,
-                  "budget": "mean PSNR over the views >= budget_db (reflection AOV, reflective pixels)",
+                  "budget": "mean PSNR over the views >= budget_db (reflection AOV, reflective pixels" +
+                            (f" of roughness below {args.max_roughness:g})" if args.max_roughness is not None else ")"),
                   "views": view_names, "size": args.size, "spp": args.spp, "kind": args.kind, "met": met,
                   "baseline": {"mean_psnr_db": baseline["mean"], "per_view_psnr_db": baseline["per_view"],
                                "reflection_ms": baseline["ms"]},
@@ -940,6 +945,12 @@ def parse_size(text):
 
 
 def check_args(args):
+    if (args.budget_db is None) == (args.gain_db is None):
+        raise InputError("give one of --budget-db and --gain-db", 2)
+    if args.gain_db is not None:
+        if not math.isfinite(args.gain_db):
+            raise InputError(f"--gain-db {args.gain_db}: must be a finite number of dB", 2)
+        args.budget_db = 0.0  # set from the baseline once it is measured
     try:
         args.budget_db = float(args.budget_db)
     except ValueError:
@@ -1010,7 +1021,9 @@ def main(argv=None):
     pl = sub_p.add_parser("place", help="propose CMOs that meet an accuracy budget", description=__doc__,
                           formatter_class=argparse.RawDescriptionHelpFormatter)
     pl.add_argument("--scene", required=True, help="glTF scene (.gltf or .glb)")
-    pl.add_argument("--budget-db", required=True,
+    pl.add_argument("--gain-db", type=float,
+                    help="instead of --budget-db: the budget is the scene's own baseline (as given) plus this")
+    pl.add_argument("--budget-db",
                     help="the budget: the configuration must reach a mean PSNR >= D dB over the views "
                          "(each view: the reflection AOV against speculum-reference on reflective pixels)")
     pl.add_argument("--views", help="comma list of camera names (default: every camera of the scene)")

@@ -1,0 +1,163 @@
+#!/usr/bin/env python3
+"""CMO tests against the reference renderer (label accuracy; thresholds.json "cmo"):
+
+    cmo_test.py TOOLS... --check nested|highlight|curved --out DIR --cache DIR
+
+nested     mirror_hall.facing, screen space off: with cmo_bounces (the table's default) the
+           nested reflections between the two facing mirrors are closer to a reference rendered
+           with enough bounces than with cmo_bounces=0, by at least min_gain_db on the mirrors.
+highlight  mirror_hall.highlight_a and _b: the ball behind the camera, seen only in the mirror
+           (only CMOs see it), carries the lamp's highlight; its brightest spot lies within
+           max_offset_px of the reference's at both camera positions, and moves by at least
+           min_motion_px between them, as in the reference (shading at the hit for the viewer).
+curved     cornell_mirrors close views of the curved reflectors: with CMOs (the default chain)
+           at least psnr_min on pixels below max_roughness, and never worse than without them
+           by more than the tolerance.
+"""
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "bench"))
+sys.path.insert(0, str(HERE.parent / "capture"))
+import speculum_bench as bench  # noqa: E402
+from stripes_test import load  # noqa: E402
+
+
+def band_scores(tools, test, ref_dir, exposure, rough, max_roughness):
+    cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
+           "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test), "--scale", str(exposure),
+           "--band-image", str(rough), "--bands", f"0,{max_roughness:g}"]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
+    return json.loads(r.stdout)["bands"][0]
+
+
+def roughness(tools, view, size, out):
+    d = out / f"{bench.view_name(view)}.roughness"
+    d.mkdir(parents=True, exist_ok=True)
+    cmd = [tools.capture, "--scene", str(bench.scene_file(view)), *bench.camera_args(view), "--size", size,
+           "--warmup", "0", "--aov", "roughness", "--out", str(d)]
+    if bench.run(cmd, d / "log.txt") != 0:
+        bench.fail(f"roughness capture failed; see {d / 'log.txt'}", 1)
+    return bench.last_frame(d, "roughness")
+
+
+def reference(tools, view, size, settings, cache):
+    ref_dir, _ = bench.render_reference(tools, view, size, settings, cache)
+    return ref_dir, json.loads((ref_dir / "reference.json").read_text())["exposure"]
+
+
+def run(tools, view, size, sets, out, name):
+    suite = {"warmup": 3, "frames": 1}
+    image, ms, _, _ = bench.capture(tools, view, size, sets, "reflection", suite, out / name)
+    return image, ms
+
+
+def nested(tools, rule, out, cache):
+    view = {"scene": "mirror_hall", "camera": "facing"}
+    ref_dir, exposure = reference(tools, view, rule["size"], rule["reference"], cache)
+    rough = roughness(tools, view, rule["size"], out)
+    got = {}
+    for label, sets in (("bounces", rule["with"]), ("no_bounces", rule["without"])):
+        image, _ = run(tools, view, rule["size"], sets, out, f"nested.{label}")
+        got[label] = band_scores(tools, image, ref_dir, exposure, rough, rule["max_roughness"])
+    gain = got["bounces"]["psnr_db"] - got["no_bounces"]["psnr_db"]
+    print(f"nested: mirrors {got['bounces']['psnr_db']:.2f} dB with CMO bounces, {got['no_bounces']['psnr_db']:.2f} "
+          f"without ({got['bounces']['pixels']} pixels), gain {gain:+.2f} dB; must be >= {rule['min_gain_db']}")
+    return gain >= rule["min_gain_db"]
+
+
+def luminance(path, tmp):
+    w, h, c = load(str(path), tmp)
+    lum = [[0.2126 * c["R"][y][x] + 0.7152 * c["G"][y][x] + 0.0722 * c["B"][y][x] for x in range(w)] for y in range(h)]
+    return w, h, c, lum
+
+
+def ball_box(path, tmp):
+    """The bounding box of the red ball's reflection in the reference (red over twice green)."""
+    w, h, c, _ = luminance(path, tmp)
+    pts = [(x, y) for y in range(h) for x in range(w) if c["R"][y][x] > 0.02 and c["R"][y][x] > 2.5 * c["G"][y][x]]
+    if not pts:
+        bench.fail(f"{path}: no red ball in the reference's reflection", 1)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def brightest(path, tmp, box):
+    """(x, y) of the brightest 3x3 mean luminance inside box (the ball): its highlight."""
+    w, h, _, lum = luminance(path, tmp)
+    best, at = -1.0, (0, 0)
+    for y in range(max(1, box[1]), min(h - 1, box[3] + 1)):
+        for x in range(max(1, box[0]), min(w - 1, box[2] + 1)):
+            v = sum(lum[y + j][x + i] for j in (-1, 0, 1) for i in (-1, 0, 1))
+            if v > best:
+                best, at = v, (x, y)
+    return at
+
+
+def highlight(tools, rule, out, cache):
+    ok = True
+    spots = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for cam in ("highlight_a", "highlight_b"):
+            view = {"scene": "mirror_hall", "camera": cam}
+            ref_dir, _ = reference(tools, view, rule["size"], rule["reference"], cache)
+            image, _ = run(tools, view, rule["size"], rule["with"], out, f"highlight.{cam}")
+            box = ball_box(ref_dir / "reflection.0000.exr", tmp)
+            ours, theirs = brightest(image, tmp, box), brightest(ref_dir / "reflection.0000.exr", tmp, box)
+            off = ((ours[0] - theirs[0]) ** 2 + (ours[1] - theirs[1]) ** 2) ** 0.5
+            print(f"highlight {cam}: ours at {ours}, the reference's at {theirs}: {off:.1f} px apart "
+                  f"(at most {rule['max_offset_px']})")
+            ok &= off <= rule["max_offset_px"]
+            spots[cam] = (ours, theirs)
+    a, b = spots["highlight_a"], spots["highlight_b"]
+    move = [((a[i][0] - b[i][0]) ** 2 + (a[i][1] - b[i][1]) ** 2) ** 0.5 for i in (0, 1)]
+    print(f"highlight: moves {move[0]:.1f} px in ours, {move[1]:.1f} px in the reference (at least "
+          f"{rule['min_motion_px']})")
+    return ok and move[0] >= rule["min_motion_px"] and move[1] >= rule["min_motion_px"]
+
+
+def curved(tools, rule, out, cache):
+    ok = True
+    for cam in rule["views"]:
+        view = {"scene": "cornell_mirrors", "camera": cam}
+        ref_dir, exposure = reference(tools, view, rule["size"], rule["reference"], cache)
+        rough = roughness(tools, view, rule["size"], out)
+        s = {}
+        for label, sets in (("cmos", rule["with"]), ("no_cmos", rule["without"])):
+            image, _ = run(tools, view, rule["size"], sets, out, f"curved.{cam}.{label}")
+            s[label] = band_scores(tools, image, ref_dir, exposure, rough, rule["max_roughness"])["psnr_db"]
+        floor = rule["psnr_min"][cam]
+        print(f"curved {cam}: {s['cmos']:.2f} dB with CMOs, {s['no_cmos']:.2f} without (roughness < "
+              f"{rule['max_roughness']}); must be >= {floor} and >= without - {rule['psnr_tolerance_db']}")
+        ok &= s["cmos"] >= floor and s["cmos"] >= s["no_cmos"] - rule["psnr_tolerance_db"]
+    return ok
+
+
+def main():
+    p = argparse.ArgumentParser()
+    for tool in ("capture", "reference", "metrics"):
+        p.add_argument(f"--{tool}", required=True)
+    p.add_argument("--thresholds", default=str(HERE / "thresholds.json"))
+    p.add_argument("--check", choices=("nested", "highlight", "curved"), required=True)
+    p.add_argument("--cache", required=True)
+    p.add_argument("--out", required=True)
+    a = p.parse_args()
+    rules = json.loads(Path(a.thresholds).read_text())["cmo"]
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rule = dict(rules[a.check])
+    for k in ("size", "reference"):
+        rule.setdefault(k, rules[k])
+    ok = {"nested": nested, "highlight": highlight, "curved": curved}[a.check](a, rule, out, Path(a.cache))
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
