@@ -200,20 +200,28 @@ void EditorApp::frameSelection() {
     lastInteraction_ = Clock::now();
 }
 
-void EditorApp::addProbeAtPick() {
+void EditorApp::addProbeAtPick(ProbeKind kind) {
+    const bool cmo = kind == ProbeKind::Cmo;
     if (!pick_.hit) {
-        status_ = "add probe: click a surface in the viewport first";
+        status_ = cmo ? "add CMO: click a surface in the viewport first" : "add probe: click a surface in the viewport first";
         return;
     }
     ReflectionProbe probe;
-    // The probe's capture point sits off the surface along its normal, by its half-extent, so
-    // that the box starts at the surface rather than inside it.
-    glm::vec3 at = pick_.position + pick_.normal * probe.extents.y;
+    probe.kind = kind;
+    // A local probe's capture point sits off the surface along its normal by its half-extent, so
+    // that the box starts at the surface rather than inside it. A CMO sits 0.3 m off (seed 000
+    // section 3.8: near the reflector, not on it, so that it sees the reflector's surroundings
+    // and the reflector itself for self-reflections), at 128 px.
+    if (cmo) {
+        probe.extents = glm::vec3(0.25f);
+        probe.blendDistance = 0.0f;
+    }
+    glm::vec3 at = pick_.position + pick_.normal * (cmo ? 0.3f : probe.extents.y);
     int count = 0;
-    for (const Node& n : doc_.scene().nodes) count += n.probe ? 1 : 0;
-    doc_.execute(addProbe(doc_, "probe." + std::to_string(count + 1), at, probe));
+    for (const Node& n : doc_.scene().nodes) count += n.probe && n.probe->kind == kind ? 1 : 0;
+    doc_.execute(addProbe(doc_, (cmo ? "cmo." : "probe.") + std::to_string(count + 1), at, probe));
     select(int(doc_.scene().nodes.size() - 1));
-    status_ = "added a probe at the picked point";
+    status_ = cmo ? "added a CMO at the picked point" : "added a probe at the picked point";
     std::printf("speculum-editor: added %s at %.4f %.4f %.4f\n", doc_.scene().nodes.back().name.c_str(), at.x, at.y,
                 at.z);
 }
@@ -351,6 +359,8 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
             std::string act = a["action"].get<std::string>();
             if (act == "add_probe")
                 addProbeAtPick();
+            else if (act == "add_cmo")
+                addProbeAtPick(ProbeKind::Cmo);
             else if (act == "delete_probe")
                 deleteSelectedProbe();
             else if (act == "bake_all")

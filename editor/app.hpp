@@ -55,7 +55,7 @@ public:
     int loop();
 
     // What the UI and the script both call.
-    void addProbeAtPick();
+    void addProbeAtPick(ProbeKind kind = ProbeKind::LocalCubemap);
     void deleteSelectedProbe();
     void save();
     void saveAs(const std::filesystem::path& path);

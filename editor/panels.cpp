@@ -51,6 +51,7 @@ void EditorApp::drawMenuBar() {
         if (ImGui::MenuItem(("Redo " + doc_.redoName()).c_str(), "Ctrl+Shift+Z", false, doc_.canRedo())) redo();
         ImGui::Separator();
         if (ImGui::MenuItem("Add probe at the picked point", nullptr, false, pick_.hit)) addProbeAtPick();
+        if (ImGui::MenuItem("Add CMO at the picked point", nullptr, false, pick_.hit)) addProbeAtPick(ProbeKind::Cmo);
         if (ImGui::MenuItem("Delete probe", "Del")) deleteSelectedProbe();
         ImGui::EndMenu();
     }
@@ -126,6 +127,8 @@ void EditorApp::drawInspector() {
         ImGui::Text("pick: %.2f %.2f %.2f", pick_.position.x, pick_.position.y, pick_.position.z);
         ImGui::SameLine();
         if (ImGui::SmallButton("Add probe here")) addProbeAtPick();
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Add CMO here")) addProbeAtPick(ProbeKind::Cmo);
     }
     if (pixelInspector_) {
         const PixelInfo& p = viewport_->lastPixel();
