@@ -292,3 +292,32 @@ TEST_F(CmoGpu, HierarchicalAgreesWithConstantStepAtAFineStep) {
               << " linear (" << itL / std::max(itH, 1.0) << "x)\n";
     EXPECT_GE(double(agree), 0.99 * double(rays.size()));
 }
+
+// A time-sliced CMO (one face per update) is left out of tracing until its sixth face, then
+// equals the once-baked CMO: the same distances (every level) and radiance, bit for bit.
+TEST_F(CmoGpu, TimeSlicedEqualsOnceBakedAfterSixUpdates) {
+    Scene once = boxRoom();
+    Scene sliced = once;
+    sliced.nodes.back().probe->update = ProbeUpdate::TimeSliced;
+    render::Renderer ra(*ctx_, once), rb(*ctx_, sliced);
+    probes::Probes a(*ctx_, ra), b(*ctx_, rb);
+    a.update();
+    auto traced = [](probes::Probes& p) {
+        FrameGraph fg(FrameGraphConfig{8, 8});
+        return p.addPasses(fg).cmos.count;
+    };
+    for (int frame = 0; frame < 6; ++frame) {
+        EXPECT_EQ(traced(b), 0u) << "after " << frame << " updates";
+        b.update();
+    }
+    EXPECT_EQ(traced(b), 1u);
+    EXPECT_EQ(traced(a), 1u);
+    for (const gpu::Image* pair : {&a.cmoDistance(), &a.cmoRadiance()}) {
+        const gpu::Image& other = pair == &a.cmoDistance() ? b.cmoDistance() : b.cmoRadiance();
+        for (uint32_t mip : {0u, pair->desc().mips - 1})
+            for (uint32_t layer = 0; layer < 6; ++layer)
+                EXPECT_EQ(gpu::readImageRGBA(*ctx_, pair->get(), pair->desc(), VK_IMAGE_LAYOUT_GENERAL, mip, layer),
+                          gpu::readImageRGBA(*ctx_, other.get(), other.desc(), VK_IMAGE_LAYOUT_GENERAL, mip, layer))
+                    << "mip " << mip << " face " << layer;
+    }
+}
