@@ -818,6 +818,82 @@ def build_mirror_hall():
         ((1.0, 1.3, 0.5), (2.95, 1.0, 0.2)),
     ])
 
+def build_hall_of_mirrors():
+    """The sample game's level (sample_game/README.md): hall 10 m (x) x 3.5 m (y) x 8 m (z), x in
+    [-5, 5], y in [0, 3.5], z in [-4, 4]. A flat wall mirror (x = -5), a chrome ball (convex), a
+    concave dish on the east wall, a mirror floor strip, a partition by the start, one local probe
+    over the hall and two CMOs; three collectibles (`collectible.N`, extras
+    speculum_hidden_primary: seen only in reflections, engine/scene/EXTENSIONS.md)."""
+    g = Gltf("hall_of_mirrors")
+    W, H, D = 5.0, 3.5, 4.0
+    g.material("hall.floor", (0.42, 0.4, 0.36), 0.0, 0.75)
+    g.material("hall.ceiling", (0.8, 0.8, 0.78), 0.0, 0.9)
+    g.material("hall.teal", (0.12, 0.38, 0.4), 0.0, 0.8)
+    g.material("hall.plum", (0.45, 0.18, 0.35), 0.0, 0.8)
+    g.material("hall.stone", (0.6, 0.55, 0.48), 0.0, 0.85)
+    g.material("hall.mirror", (0.95, 0.95, 0.95), 1.0, 0.0, reflections=mirror_ext(mirrorForSelfReflections=True))
+    g.material("floor.mirror", (0.9, 0.9, 0.92), 1.0, 0.04, reflections=mirror_ext())
+    g.material("ball.chrome", (0.95, 0.93, 0.9), 1.0, 0.02, reflections=mirror_ext())
+    g.material("dish.gold", (1.0, 0.8, 0.45), 1.0, 0.05, reflections=mirror_ext())
+    g.material("partition.red", (0.7, 0.12, 0.08), 0.0, 0.6)
+    for i, color in enumerate(((0.2, 1.0, 0.35), (1.0, 0.45, 0.1), (0.3, 0.5, 1.0))):
+        g.material("gem.%d" % i, color, 0.0, 0.3, emissive=color, strength=6.0)
+    LAP = 0.02
+    for name, mat, corner, eu, ev, facing in (
+            ("hall.floor", "hall.floor", (-W - LAP, 0, -D - LAP), (2 * W + 2 * LAP, 0, 0), (0, 0, 2 * D + 2 * LAP), (0, 1, 0)),
+            ("hall.ceiling", "hall.ceiling", (-W - LAP, H, -D - LAP), (2 * W + 2 * LAP, 0, 0), (0, 0, 2 * D + 2 * LAP), (0, -1, 0)),
+            ("hall.north", "hall.teal", (-W - LAP, -LAP, -D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, 1)),
+            ("hall.south", "hall.plum", (-W - LAP, -LAP, D), (2 * W + 2 * LAP, 0, 0), (0, H + 2 * LAP, 0), (0, 0, -1)),
+            ("hall.west", "hall.stone", (-W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (1, 0, 0)),
+            ("hall.east", "hall.stone", (W, -LAP, -D - LAP), (0, 0, 2 * D + 2 * LAP), (0, H + 2 * LAP, 0), (-1, 0, 0))):
+        m = MeshData()
+        m.quad(corner, eu, ev, facing=facing)
+        g.object(name, m, mat)
+    # The wall mirror: 4 m x 2.4 m, 5 cm in front of the west wall, beside the partition's nook.
+    m = MeshData()
+    m.quad((-W + 0.05, 0.3, -3.5), (0, 0, 4.0), (0, 2.4, 0), facing=(1, 0, 0))
+    g.object("mirror.west", m, "hall.mirror")
+    # The mirror floor: 8 m x 7 m, 4 mm above the floor, a matte border around it.
+    m = MeshData()
+    m.quad((-4.0, 0.004, -3.5), (8.0, 0, 0), (0, 0, 7.0), facing=(0, 1, 0))
+    g.object("floor.mirror", m, "floor.mirror")
+    m = MeshData()
+    m.uv_sphere(0.9, 48, 24)
+    g.object("ball.chrome", m, "ball.chrome", translation=(1.5, 0.9, -1.0))
+    # The concave mirror faces west (-x) from the east wall.
+    m = MeshData()
+    m.dish(1.0, 1.2, 0.05, nr=12, nphi=48)
+    g.object("dish.concave", m, "dish.gold", translation=(W - 0.15, 1.6, 1.5), rotation=quat_axis_angle((0, 1, 0), -90))
+    m = MeshData()
+    m.box((0.0, 0.0, 0.0), (0.1, 1.25, 1.0))
+    g.object("partition", m, "partition.red", translation=(-2.0, 1.25, 2.0))
+    # Collectibles: seen only in the mirrors (drawn into the probe and the CMOs, not the main view).
+    gem = MeshData()
+    gem.uv_sphere(0.15, 16, 8)
+    for i, pos in enumerate(((-3.5, 1.0, -2.5), (3.0, 1.0, -3.0), (3.5, 1.0, 2.5))):
+        mi = g.mesh("collectible.%d" % i, gem, "gem.%d" % i, geometry_key="gem")
+        g.node("collectible.%d" % i, pos, mesh=mi, extras={"speculum_hidden_primary": True})
+    g.light("lamp.west", "point", 12.0, LAMP_COLOR, position=(-2.5, H - 0.3, 0.0))
+    g.light("lamp.east", "point", 12.0, LAMP_COLOR, position=(2.5, H - 0.3, 0.0))
+    g.probe("reflection_probe.hall", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
+            extents=[W, H / 2, D], blendDistance=0.25, resolution=128, update="once", order=0)
+    # CMOs where the curved mirrors look: the hall's middle (the ball and the floor) and by the dish.
+    g.probe("cmo.hall", (-0.5, 1.5, 1.0), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
+            resolution=128, update="once", order=1)
+    g.probe("cmo.east", (3.0, 1.5, 0.5), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
+            resolution=128, update="once", order=0)
+    # The player starts in the nook west of the partition, facing the ball.
+    g.camera("main", (-3.5, 1.6, 2.0), (-1.0, 0.6, -2.5))
+    g.camera("overview", (4.5, 3.0, 3.5), (-1.0, 0.5, -1.5))
+    g.camera("ball", (-1.0, 1.6, 2.5), (1.5, 0.9, -1.0))
+    g.write({"environment": "../env/interior.exr", "exposure": 0.5})
+    write_path("hall_of_mirrors", [
+        ((-3.5, 1.6, 2.0), (-1.0, 0.6, -2.5)),
+        ((-1.0, 1.6, 2.5), (1.5, 0.9, -1.0)),
+        ((4.5, 3.0, 3.5), (-1.0, 0.5, -1.5)),
+    ])
+
+
 def build_failure_cases():
     """Open mirror-floor stage, x in [-6, 6], z in [-6, 6], back wall at z = -5.5."""
     g = Gltf("failure_cases")
@@ -1542,7 +1618,8 @@ def check_path(name, lo, hi):
         require(length(sub(k["target"], k["eye"])) > 0.1, "path %s: eye == target" % name)
 
 
-SCENES = ("gallery", "cornell_mirrors", "failure_cases", "closed_room", "plain_metals", "mirror_hall")
+SCENES = ("gallery", "cornell_mirrors", "failure_cases", "closed_room", "plain_metals", "mirror_hall",
+          "hall_of_mirrors")
 SEALED = ("closed_room",)  # no ray from inside, direct or mirrored, may reach the sky
 PLAIN = ("plain_metals",)  # no Speculum extension at all, like a plain Blender export
 
@@ -1559,6 +1636,7 @@ def main():
         build_plain_metals()
         build_blender_repro()
         build_mirror_hall()
+        build_hall_of_mirrors()
         for n in SCENES:
             print("wrote assets/scenes/%s.gltf, .bin and assets/paths/%s.json" % (n, n))
         print("wrote assets/blender/" + BLENDER_FILE)

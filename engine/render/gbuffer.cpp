@@ -179,6 +179,7 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
     bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
     for (const DrawItem& d : gpuScene.draws) {
+        if (!d.drawnIn(frame.primaryView)) continue;
         const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material]);
         if (p != bound) {
             p->bind(cmd);
@@ -193,14 +194,14 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
     vkCmdEndRendering(cmd);
 }
 
-void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
-                                   const std::vector<VkImageView>& colors,
-                                   VkImageView depth) const {
+void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
+                                   VkImageView depth, bool primaryView) const {
     beginRendering(cmd, extent, colors, depth, true);
     bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
     uint32_t boundMaterial = ~0u;
     for (const DrawItem& d : gpuScene.draws) {
+        if (!d.drawnIn(primaryView)) continue;
         const GpuMaterial& m = gpuScene.materials[d.material];
         const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m);
         if (p != bound) {
@@ -265,10 +266,10 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
             d.g.motion = target("render.motion", kMotionFormat);
             d.g.depth = b.read(depth, TextureUsage::DepthRead);
         },
-        [impl](const GBufferData& d, PassContext& ctx) {
+        [impl, primary = frame.primaryView](const GBufferData& d, PassContext& ctx) {
             std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal),
                                                ctx.view(d.g.emissive), ctx.view(d.g.motion)};
-            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth));
+            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth), primary);
         });
     GBuffer result = g.g;
     result.shadowMask = mask;

@@ -74,6 +74,11 @@ RendererOptions& Renderer::options() {
     return impl_->options;
 }
 
+void Renderer::setNodeVisible(int node, bool visible) {
+    for (DrawItem& d : impl_->gpuScene.draws)
+        if (d.node == node) d.hidden = !visible;
+}
+
 void Renderer::updateMaterialFactors() {
     const Scene& s = impl_->scene;
     std::vector<GpuMaterial>& gpu = impl_->gpuScene.materials;

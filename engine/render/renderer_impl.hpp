@@ -16,6 +16,10 @@ struct DrawItem {
     uint32_t material = 0;  // index into SceneGpu::materials (the default material is last)
     glm::mat4 model{1.0f};
     bool mirrored = false;  // negative determinant: winding and facing are inverted
+    int node = -1;
+    bool hiddenPrimary = false;  // Node::hiddenPrimary: not drawn into FrameInputs::primaryView
+    bool hidden = false;         // Renderer::setNodeVisible(false): not drawn at all
+    bool drawnIn(bool primaryView) const { return !hidden && !(primaryView && hiddenPrimary); }
 };
 
 // A material resolved for drawing: factors and the views its four textures use.
@@ -103,8 +107,8 @@ struct Renderer::Impl {
     void recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const;
     void recordShadowMask(PassContext& pass, const FrameInputs& frame, TextureHandle depth,
                           TextureHandle map, TextureHandle out) const;
-    void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent,
-                       const std::vector<VkImageView>& colors, VkImageView depth) const;
+    void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
+                       VkImageView depth, bool primaryView) const;
     void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
                         TextureHandle out, const LightingOptions& lighting) const;
     void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;

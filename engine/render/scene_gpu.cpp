@@ -191,7 +191,8 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
             uint32_t material =
                 mat >= 0 && size_t(mat) < scene.materials.size() ? uint32_t(mat) : defaultMaterial;
             gpuScene.draws.push_back(
-                {r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored});
+                {r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored, inst.node,
+                 inst.node >= 0 && scene.nodes[size_t(inst.node)].hiddenPrimary});
         }
     }
     gpuScene.materialSampler =

@@ -132,6 +132,7 @@ void Renderer::Impl::recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t
         vkCmdSetDepthBias(cmd, 0.0f, 0.0f, -1.5f);
         bindSceneGeometry(cmd, gpuScene);
         for (const DrawItem& d : gpuScene.draws) {
+            if (!d.drawnIn(false)) continue;
             glm::mat4 m = shadow.viewProj * d.model;
             vkCmdPushConstants(cmd, shadowPipeline.layout(),
                                VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

@@ -150,6 +150,12 @@ void parseNodes(Scene& scene, const json& doc, const Document& d, const Reader& 
         n.name = r.string(j, "name", where);
         n.mesh = r.index(j, "mesh", where, d.meshes.size(), "meshes");
         n.camera = r.index(j, "camera", where, d.cameras.size(), "cameras");
+        if (const json* extras = r.object(j, "extras", where); extras && extras->contains("speculum_hidden_primary")) {
+            const json& h = (*extras)["speculum_hidden_primary"];
+            if (!h.is_boolean())
+                r.fail(where + ".extras.speculum_hidden_primary", std::string("expected a boolean, got ") + jsonTypeName(h));
+            n.hiddenPrimary = h.get<bool>();
+        }
         if (const json* children = r.array(j, "children", where)) {
             for (size_t k = 0; k < children->size(); ++k) {
                 std::string cw = where + ".children[" + std::to_string(k) + "]";

@@ -146,6 +146,9 @@ struct Node {
     int camera = -1;  // index into the glTF cameras
     int light = -1;   // index into the glTF lights
     std::optional<ReflectionProbe> probe;
+    // extras.speculum_hidden_primary (EXTENSIONS.md): drawn into probe and CMO captures but not
+    // into a view marked render::FrameInputs::primaryView (the game's collectibles).
+    bool hiddenPrimary = false;
     glm::mat4 world{1.0f};  // resolved
 };
 

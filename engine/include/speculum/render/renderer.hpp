@@ -71,6 +71,10 @@ struct LightingOptions {
 struct FrameInputs {
     CameraState camera;
     CameraState previousCamera;  // same as camera on the first frame
+    // The player's view: nodes with Node::hiddenPrimary are left out of its depth prepass and
+    // G-buffer (they still cast shadows and appear in probe and CMO captures, which leave this
+    // false).
+    bool primaryView = false;
 };
 
 // The handles the renderer's passes produce. `lit` is the lit HDR image before reflections are
@@ -107,6 +111,9 @@ public:
     // reflects) for the frames recorded from now on: the editor's sliders move them live.
     // Textures, emissive and alpha stay as uploaded.
     void updateMaterialFactors();
+    // Leaves a node's meshes out of every pass from the next recorded frame on (or puts them
+    // back): the game's collected items. Probes keep what they captured until they bake again.
+    void setNodeVisible(int node, bool visible);
 
     const Environment& environment() const;
     // The scene's lights and irradiance SH as specialization constants (ids 0-287), for passes

@@ -1,0 +1,36 @@
+// extras.speculum_hidden_primary on a node (engine/scene/EXTENSIONS.md): read into
+// Node::hiddenPrimary; anything but a boolean is a load error naming the node.
+#include "scene_test_support.hpp"
+
+#include "speculum/core.hpp"
+
+#include <gtest/gtest.h>
+
+namespace speculum::scenetest {
+namespace {
+
+TEST(HiddenPrimaryExtras, ReadFromTheNode) {
+    auto dir = tmpDir("hidden_primary");
+    GltfData g = quad();
+    g.doc["nodes"][1]["extras"] = {{"speculum_hidden_primary", true}, {"other", 1}};
+    Scene scene = loadScene(writeGltf(dir / "hidden.gltf", g));
+    EXPECT_FALSE(scene.nodes[0].hiddenPrimary);
+    EXPECT_TRUE(scene.nodes[1].hiddenPrimary);
+}
+
+TEST(HiddenPrimaryExtras, NotABooleanIsBadInput) {
+    auto dir = tmpDir("hidden_primary");
+    GltfData g = quad();
+    g.doc["nodes"][1]["extras"] = {{"speculum_hidden_primary", "yes"}};
+    try {
+        loadScene(writeGltf(dir / "bad_hidden.gltf", g));
+        FAIL() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::BadInput);
+        EXPECT_NE(std::string(e.what()).find("extras.speculum_hidden_primary"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("bad_hidden.gltf"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace speculum::scenetest
