@@ -95,7 +95,12 @@ LayoutKey layoutKey(const FrameGraph& graph, const CompiledGraph& compiled) {
     return key;
 }
 
-using ViewKey = std::tuple<VkImage, uint32_t, uint32_t, uint32_t, uint32_t, VkImageViewType>;
+// The image's size and format are part of the key: a host that destroys an imported image and
+// imports a new one of another size may get the same handle value back (lavapipe's handles are
+// heap addresses), and a view of the old one then writes past the new one's memory (issue 16:
+// the game's dynamic resolution resizing the reflections module's history).
+using ViewKey = std::tuple<VkImage, uint32_t, uint32_t, uint32_t, uint32_t, VkImageViewType, uint32_t, uint32_t,
+                           uint32_t, VkFormat>;
 
 }  // namespace
 
@@ -349,7 +354,8 @@ VkImageView VulkanFrameGraphExecutor::view(uint32_t texture, Subresource range,
     }
     if (range.mipCount == kAllMips) range.mipCount = info.desc.mips - range.baseMip;
     if (range.layerCount == kAllLayers) range.layerCount = info.desc.layers - range.baseLayer;
-    ViewKey key{image, range.baseMip, range.mipCount, range.baseLayer, range.layerCount, type};
+    ViewKey key{image,           range.baseMip,    range.mipCount,   range.baseLayer, range.layerCount,
+                type,            info.desc.width, info.desc.height, info.desc.layers, info.desc.format};
     auto& cache = info.imported ? s.importedViews : s.realized->views;
     if (auto it = cache.find(key); it != cache.end()) return it->second.get();
 
