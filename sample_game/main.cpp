@@ -260,6 +260,7 @@ int run(Options opt) {
     auto last = std::chrono::steady_clock::now();
     double fpsTime = 0.0, smoothedMs = 0.0;
     int fpsFrames = 0, frames = 0, sinceResize = 0;
+    size_t cursor = 0;  // the recording's frame: one per loop, rendered or not (a swapchain re-creation)
     bool baked = true;
     std::vector<app::PassTime> lastPasses;
     while (!window.shouldClose() && (opt.frames <= 0 || frames < opt.frames)) {
@@ -269,8 +270,8 @@ int run(Options opt) {
         last = now;
         game::FrameInput in;
         if (replaying) {
-            if (size_t(frames) >= replay.frames.size()) break;
-            in = replay.frames[size_t(frames)];
+            if (cursor >= replay.frames.size()) break;
+            in = replay.frames[cursor++];
         } else {
             in = liveInput(window.handle(), !hud.paused && !game.won(), lastX, lastY);
             // A probe re-bake's frame is not a frame of play: the player does not jump ahead.
@@ -302,6 +303,7 @@ int run(Options opt) {
         internal = internalOf(extent, replaying ? in.scale : scale);
         if (internal.width != was.width || internal.height != was.height) {
             runner.resize(internal.width, internal.height);
+            std::printf("frame %d: internal resolution %ux%u\n", frames, internal.width, internal.height);
             // Last frame's history has the old size: start the temporal accumulation afresh.
             module.resetHistory();
         }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -308,10 +309,17 @@ void VulkanFrameGraphExecutor::realize(const FrameGraph& graph, const CompiledGr
         }
     }
     // Views of imports that left the graph may name destroyed images whose handle values get
-    // reused; drop them.
+    // reused (by an image of another size, or later by one of the same size again): keep only
+    // views of an image imported now with the same size and format.
+    std::set<std::tuple<VkImage, uint32_t, uint32_t, uint32_t, VkFormat>> imports;
+    for (uint32_t t = 0; t < graph.textureCount(); ++t)
+        if (graph.importedTexture(t)) {
+            const TextureDesc& d = s.textures[t].desc;
+            imports.insert({s.images[t], d.width, d.height, d.layers, d.format});
+        }
     for (auto it = s.importedViews.begin(); it != s.importedViews.end();) {
-        bool live = std::find(s.images.begin(), s.images.end(), std::get<0>(it->first)) !=
-                    s.images.end();
+        const ViewKey& k = it->first;
+        bool live = imports.count({std::get<0>(k), std::get<6>(k), std::get<7>(k), std::get<8>(k), std::get<9>(k)}) > 0;
         it = live ? std::next(it) : s.importedViews.erase(it);
     }
 
