@@ -75,11 +75,12 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
     return c;
 }
 
-void Probes::Impl::runCapture(FrameGraph& fg) {
+double Probes::Impl::runCapture(FrameGraph& fg) {
     fg.compile(allocator);
     ctx.submitAndWait([&](VkCommandBuffer cmd) { fg.execute(executor, cmd); });
-    for (const auto& t : executor.readTimings()) ms += t.ms;
-    ++faces;
+    double total = 0.0;
+    for (const auto& t : executor.readTimings()) total += t.ms;
+    return total;
 }
 
 void Probes::Impl::captureFace(size_t index, uint32_t face) {
@@ -113,7 +114,8 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
         });
     fg.markOutput(s.cube);
-    runCapture(fg);
+    ms += runCapture(fg);
+    ++faces;
 }
 
 void Probes::Impl::prefilter(size_t index) {

@@ -257,7 +257,8 @@ void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
     fg.markOutput(s.distance);
     fg.markOutput(s.attr);
     fg.markOutput(s.albedo);
-    runCapture(fg);
+    c.ms += runCapture(fg);
+    ++c.faces;
 }
 
 void Probes::Impl::finishCmo(size_t index) {

@@ -59,6 +59,8 @@ struct Probes::Impl {
         gpu::Pipeline store, reduce;
         std::vector<bool> pending, ready;
         std::vector<bool> blind;  // baked and saw only sky: left out of tracing
+        size_t faces = 0;         // CMO faces captured and their GPU milliseconds
+        double ms = 0.0;
         size_t slice = 0;
     };
     std::optional<CmoState> cmo;
@@ -83,7 +85,8 @@ struct Probes::Impl {
         TextureHandle face;
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
-    void runCapture(FrameGraph& fg);
+    // Compiles and runs a capture graph; returns its GPU milliseconds.
+    double runCapture(FrameGraph& fg);
 
     // CMOs (cmo.cpp).
     void createCmos();

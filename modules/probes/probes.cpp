@@ -193,6 +193,8 @@ const gpu::Image& Probes::cmoRadiance() const { return impl_->cmo->radiance; }
 const gpu::Image& Probes::cubes() const { return impl_->cubes; }
 size_t Probes::facesCaptured() const { return impl_->faces; }
 double Probes::captureMs() const { return impl_->ms; }
+size_t Probes::cmoFacesCaptured() const { return impl_->cmo->faces; }
+double Probes::cmoCaptureMs() const { return impl_->cmo->ms; }
 
 void Probes::requestUpdate(int probe) {
     Impl& m = *impl_;

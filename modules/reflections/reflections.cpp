@@ -173,6 +173,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.cmoMaxDistance = s.cmoMaxDistance;
     u.cmoBounces = float(s.cmoBounces);
     u.cmoMaxRoughness = s.cmoMaxRoughness;
+    u.cmoPassBehind = s.cmoPassBehind ? 1u : 0u;
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 

@@ -77,6 +77,11 @@ std::vector<SettingDesc> settingsTable() {
         {"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
          "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
          "mirrorForSelfReflections) reflects again, up to this many times."},
+        {"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
+         "A ray every CMO leaves unresolved (it passed behind a surface the CMOs cannot see past): "
+         "down the chain to the local probes, or traced once more through the first CMO as if it "
+         "passed behind what hid it (right behind thin occluders, wrong where it meets one's "
+         "unseen back)."},
         {"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.5, {},
          "CMOs trace reflections up to this perceptual roughness (glossy rays read the colour "
          "mips by the cone's footprint at the hit); rougher goes to the local probes."},
@@ -153,6 +158,7 @@ ReflectionSettings ReflectionSettings::from(const Settings& s) {
     r.cmoMaxDistance = s.getFloat("reflections.cmo_max_distance");
     r.cmoBounces = s.getInt("reflections.cmo_bounces");
     r.cmoMaxRoughness = s.getFloat("reflections.cmo_max_roughness");
+    r.cmoPassBehind = s.getInt("reflections.cmo_unresolved") == 1;
     r.resolution = Resolution(s.getInt("reflections.resolution"));
     r.glossy = GlossyMode(s.getInt("reflections.glossy"));
     r.temporal = s.getBool("reflections.temporal");

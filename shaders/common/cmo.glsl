@@ -149,8 +149,12 @@ float cmoLeaveSurface(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float thi
 // Hierarchical trace of o + t r, t in [0, tMax], through CMO c (from where it leaves its start's
 // surface, cmoLeaveSurface: n its normal, zero in the open). Returns kCmoHit (tHit set),
 // kCmoMiss or kCmoUnresolved; `iterations` counts cells visited (bounded by maxIterations).
+// `passBehind`: a ray that passes behind a surface goes on behind it instead of being
+// unresolved (seed 000 §3.9's "best candidate": the tracer's last resort when every CMO left the
+// ray unresolved; right for thin occluders such as pillars, wrong where the ray meets the
+// occluder's unseen back).
 int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float thickness, int maxIterations,
-                         inout int iterations, out float tHit) {
+                         bool passBehind, inout int iterations, out float tHit) {
     tHit = 0.0;
     int size = int(c.center.w);
     int layer0 = int(c.params.x);
@@ -211,7 +215,9 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float 
                 tHit = th;
                 return kCmoHit;
             }
-            if (th < -1.5) return kCmoUnresolved;
+            // Behind a surface deeper than the tolerance: unresolved, or with `passBehind` the ray
+            // is taken to pass behind it (every surface thinner than the gap) and the walk goes on.
+            if (th < -1.5 && !passBehind) return kCmoUnresolved;
             t = tb + 1e-5 * (1.0 + tb);
             tFront = tb;
             level = min(level + 1, top);
@@ -225,7 +231,7 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float 
 // Constant-step trace: delta at every `step` against the staircase; a sign change is confirmed
 // and placed by the same refinement step (cmoRefine) as the hierarchy's.
 int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float step, float thickness, int maxIterations,
-                   inout int iterations, out float tHit) {
+                   bool passBehind, inout int iterations, out float tHit) {
     tHit = 0.0;
     float start = cmoLeaveSurface(c, o, r, n, tMax, thickness, iterations);
     if (start < 0.0) return kCmoUnresolved;
@@ -250,7 +256,7 @@ int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float step, 
             tHit = th;
             return kCmoHit;
         }
-        if (th < -1.5) return kCmoUnresolved;
+        if (th < -1.5 && !passBehind) return kCmoUnresolved;
         if (t >= tMax) return kCmoMiss;
         prev = t;
     }

@@ -39,8 +39,8 @@ void main() {
     int maxIterations = int(pc.params.z);
     int itH = 0, itL = 0;
     float tH, tL;
-    int sH = cmoTraceHierarchical(c, o, q.dir.xyz, n, q.dir.w, pc.params.y, maxIterations, itH, tH);
-    int sL = cmoTraceLinear(c, o, q.dir.xyz, n, q.dir.w, pc.params.x, pc.params.y, maxIterations, itL, tL);
+    int sH = cmoTraceHierarchical(c, o, q.dir.xyz, n, q.dir.w, pc.params.y, maxIterations, false, itH, tH);
+    int sL = cmoTraceLinear(c, o, q.dir.xyz, n, q.dir.w, pc.params.x, pc.params.y, maxIterations, false, itL, tL);
     results[2u * i] = vec4(float(sH), tH, float(itH), 0.0);
     results[2u * i + 1u] = vec4(float(sL), tL, float(itL), 0.0);
 }

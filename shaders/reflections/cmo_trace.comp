@@ -110,15 +110,22 @@ void main() {
             int found = -1;
             float tHit = 0.0;
             bool unresolved = false;
-            for (uint i = 0u; i < rf.cmoCount && found < 0; ++i) {
+            // Every CMO in order; with reflections.cmo_unresolved=pass_behind, if all left the ray
+            // unresolved, the first once more with the ray taken to pass behind what hid it
+            // (cmo.glsl, passBehind): a thin pillar hides a strip of wall from a CMO, and the
+            // local probes would paint the pillar there again.
+            for (uint k = 0u; k <= rf.cmoCount && found < 0; ++k) {
+                bool last = k == rf.cmoCount;
+                if (last && !(unresolved && rf.cmoPassBehind != 0u)) break;
+                uint i = last ? 0u : k;
                 CmoRecord c = cmos[i];
                 vec3 o = origin - c.center.xyz;
                 float th;
                 int status = kLinear != 0u
                                  ? cmoTraceLinear(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoLinearStep, rf.cmoThickness,
-                                                  maxIterations, iterations, th)
+                                                  maxIterations, last, iterations, th)
                                  : cmoTraceHierarchical(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoThickness,
-                                                        maxIterations, iterations, th);
+                                                        maxIterations, last, iterations, th);
                 if (status == kCmoHit) {
                     found = int(i);
                     tHit = th;

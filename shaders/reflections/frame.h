@@ -80,7 +80,7 @@ SPECULUM_REFLECTION_FRAME_BEGIN {
     float cmoMaxDistance;
     float cmoBounces;
     float cmoMaxRoughness;
-    float cmoPad;
+    uint cmoPassBehind;  // reflections.cmo_unresolved: 1 pass_behind (cmo_trace.comp)
 } SPECULUM_REFLECTION_FRAME_END;
 
 #ifdef __cplusplus

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The reflections module's debug views (issue 3: iterations heatmap, hit mask, coverage,
-method, Hi-Z levels, the reflection alone), reached from the command line with
+method, Hi-Z levels, the reflection alone, CMO tracing), reached from the command line with
 `--set reflections.debug_view=NAME`: each view's image must be what the view promises,
 computed here from the module's raw AOVs of the same frame (hit, method, reflection, hiz).
 
@@ -39,6 +39,22 @@ def capture(exe, scene, out, view, aovs):
                    stdout=subprocess.DEVNULL)
 
 
+CMO_HUES = ((0.2, 0.9, 0.3), (0.3, 0.5, 1.0), (1.0, 0.8, 0.2), (0.9, 0.3, 0.9))
+CMO_MAX_ITERATIONS = 256  # reflections.cmo_max_iterations's default
+
+
+def expected_cmo(x, y, cmo, dim):
+    """The cmo view (composite.comp): hue by the CMO that hit, brightness by iterations; red
+    where every CMO left the ray unresolved; 0.05 over the dimmed image where none was traced."""
+    its, which, outcome = cmo["R"][y][x], cmo["G"][y][x], cmo["B"][y][x]
+    if outcome > 1.5:
+        return (0.9, 0.1, 0.1)
+    if outcome > 0.5:
+        bright = 0.35 + 0.65 * min(max(its / (CMO_MAX_ITERATIONS * 0.25), 0.0), 1.0)
+        return tuple(c * bright for c in CMO_HUES[(int(which) - 1) & 3])
+    return (0.05 + dim,) * 3
+
+
 def expected_views(x, y, hit, method, reflection):
     """Each reflective view's colour at pixel (x, y) (composite.comp's debugView)."""
     hit_z, iterations = hit["B"][y][x], hit["A"][y][x]
@@ -46,7 +62,8 @@ def expected_views(x, y, hit, method, reflection):
         "iterations": heat(iterations / MAX_ITERATIONS),
         "hit_mask": (0.1, 0.9, 0.1) if hit_z > 0.0 else (0.9, 0.1, 0.1),
         "coverage": (method["R"][y][x],) * 3,
-        "method": tuple(method[c][y][x] for c in "RGB"),
+        # r screen space, g probes, b sky, CMOs (a) yellow.
+        "method": (method["R"][y][x] + method["A"][y][x], method["G"][y][x] + method["A"][y][x], method["B"][y][x]),
         "reflection": tuple(reflection[c][y][x] for c in "RGB"),
     }
 
@@ -76,15 +93,14 @@ def main():
         def aov(run, name):
             return load(os.path.join(outdir, run, f"{name}.0000.exr"), tmp)[2]
 
-        capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection")
-        plain, hit, method, reflection = (aov("none", n) for n in ("linear", "hit", "method", "reflection"))
-        # The chain's weights (screen space, probes, sky) sum to 1 on reflective pixels, 0 elsewhere.
-        reflective = [[method["R"][y][x] + method["G"][y][x] + method["B"][y][x] > 0.5 for x in range(w)]
-                      for y in range(h)]
+        capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection,cmo")
+        plain, hit, method, reflection, cmo = (aov("none", n) for n in ("linear", "hit", "method", "reflection", "cmo"))
+        # The chain's weights (screen space, probes, sky, CMOs) sum to 1 on reflective pixels, 0 elsewhere.
+        reflective = [[sum(method[c][y][x] for c in "RGBA") > 0.5 for x in range(w)] for y in range(h)]
         count = sum(map(sum, reflective))
         if count < w * h // 10:
             failures.append(f"only {count} reflective pixels: the scene no longer tests the views")
-        for view in ("iterations", "hit_mask", "coverage", "method", "reflection", "hiz"):
+        for view in ("iterations", "hit_mask", "coverage", "method", "reflection", "hiz", "cmo"):
             print(f"[debug views] {view}", file=sys.stderr, flush=True)
             capture(exe, scene, os.path.join(outdir, view), view, "linear,hiz" if view == "hiz" else "linear")
             lin = aov(view, "linear")
@@ -93,12 +109,14 @@ def main():
             for y in range(h):
                 for x in range(w):
                     got = tuple(lin[c][y][x] * exposure for c in "RGB")
+                    lum = 0.2126 * plain["R"][y][x] + 0.7152 * plain["G"][y][x] + 0.0722 * plain["B"][y][x]
                     if view == "hiz":
                         want = expected_hiz(x, y, hiz)
+                    elif view == "cmo" and reflective[y][x]:
+                        want = expected_cmo(x, y, cmo, lum * 0.15)
                     elif reflective[y][x] or view == "reflection":
                         want = expected_views(x, y, hit, method, reflection)[view]
                     else:
-                        lum = 0.2126 * plain["R"][y][x] + 0.7152 * plain["G"][y][x] + 0.0722 * plain["B"][y][x]
                         want = (lum * 0.15,) * 3
                     if not close(got, want):
                         wrong += 1

@@ -26,8 +26,8 @@ def run(exe, scene, out, settings, tmp):
     hit = load(os.path.join(out, "hit.0000.exr"), tmp)[2]
     method = load(os.path.join(out, "method.0000.exr"), tmp)[2]
     pixels = [(x, y) for y in range(H) for x in range(W)]
-    # The chain's weights (screen space, probes, sky) sum to 1 on reflective pixels, 0 elsewhere.
-    reflective = [(x, y) for x, y in pixels if method["R"][y][x] + method["G"][y][x] + method["B"][y][x] > 0.5]
+    # The chain's weights (screen space, probes, sky, CMOs) sum to 1 on reflective pixels, 0 elsewhere.
+    reflective = [(x, y) for x, y in pixels if sum(method[c][y][x] for c in "RGBA") > 0.5]
     traced = [(x, y) for x, y in reflective if hit["A"][y][x] > 0.0]
     return {
         "reflective": len(reflective),

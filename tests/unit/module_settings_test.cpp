@@ -43,6 +43,7 @@ TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
     EXPECT_FLOAT_EQ(s.cmoMaxDistance, table.getFloat("reflections.cmo_max_distance"));
     EXPECT_EQ(s.cmoBounces, table.getInt("reflections.cmo_bounces"));
     EXPECT_FLOAT_EQ(s.cmoMaxRoughness, table.getFloat("reflections.cmo_max_roughness"));
+    EXPECT_EQ(s.cmoPassBehind, table.getInt("reflections.cmo_unresolved") == 1);
     EXPECT_EQ(int(s.resolution), table.getInt("reflections.resolution"));
     EXPECT_EQ(int(s.glossy), table.getInt("reflections.glossy"));
     EXPECT_EQ(s.temporal, table.getBool("reflections.temporal"));

@@ -135,9 +135,12 @@ public:
     const gpu::Image& cmoRadiance() const;
     // The cube array (tests): face size, mips, cubes.
     const gpu::Image& cubes() const;
-    // Faces captured so far and their total GPU milliseconds (the bench reports ms per face).
+    // Local probes' faces captured so far and their total GPU milliseconds (the bench reports ms
+    // per face); CMO faces are counted apart (cmoFacesCaptured, cmoCaptureMs).
     size_t facesCaptured() const;
     double captureMs() const;
+    size_t cmoFacesCaptured() const;
+    double cmoCaptureMs() const;
 
     struct Impl;
 

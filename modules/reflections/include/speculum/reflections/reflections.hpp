@@ -74,6 +74,7 @@ struct ReflectionSettings {
     float cmoMaxDistance;
     int cmoBounces;
     float cmoMaxRoughness;
+    bool cmoPassBehind;  // reflections.cmo_unresolved=pass_behind
     Resolution resolution;
     GlossyMode glossy;
     bool temporal;
