@@ -882,13 +882,13 @@ def build_hall_of_mirrors():
             resolution=128, update="once", order=1)
     g.probe("cmo.east", (3.0, 1.5, 0.5), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
             resolution=128, update="once", order=0)
-    # The player starts in the nook west of the partition, facing the ball.
-    g.camera("main", (-3.5, 1.6, 2.0), (-1.0, 0.6, -2.5))
+    # The player starts by the west wall, south of the wall mirror, facing the ball.
+    g.camera("main", (-3.5, 1.6, 0.3), (1.5, 0.9, -1.0))
     g.camera("overview", (4.5, 3.0, 3.5), (-1.0, 0.5, -1.5))
     g.camera("ball", (-1.0, 1.6, 2.5), (1.5, 0.9, -1.0))
     g.write({"environment": "../env/interior.exr", "exposure": 0.5})
     write_path("hall_of_mirrors", [
-        ((-3.5, 1.6, 2.0), (-1.0, 0.6, -2.5)),
+        ((-3.5, 1.6, 0.3), (1.5, 0.9, -1.0)),
         ((-1.0, 1.6, 2.5), (1.5, 0.9, -1.0)),
         ((4.5, 3.0, 3.5), (-1.0, 0.5, -1.5)),
     ])

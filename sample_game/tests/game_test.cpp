@@ -30,7 +30,7 @@ TEST(GameRules, HallHasThreeCollectiblesAndTheStartIsOnTheFloor) {
 TEST(GameRules, WalkingIntoAGemTakesIt) {
     Scene scene = hall();
     Game game(scene);
-    // Face collectible.0 at (-3.5, -2.5) from the start (-3.5, 2.0): straight down -z, yaw 0.
+    // Face collectible.0 at (-3.5, -2.5) from the start (-3.5, 0.3): straight down -z, yaw 0.
     game.advance({.dt = 0.0f, .dx = game.yaw() / kMouseRadiansPerPixel});
     EXPECT_NEAR(game.yaw(), 0.0f, 1e-4f);
     int frames = 0;
@@ -40,8 +40,8 @@ TEST(GameRules, WalkingIntoAGemTakesIt) {
     }
     EXPECT_EQ(game.taken(), 1);
     EXPECT_TRUE(game.collectibles()[0].taken);
-    // 4.5 m less the reach (0.6 m) at 3 m/s: 1.3 s.
-    EXPECT_NEAR(frames * 0.05, 1.3, 0.1);
+    // 2.8 m less the reach (0.6 m) at 3 m/s: 0.73 s.
+    EXPECT_NEAR(frames * 0.05, 0.73, 0.1);
 }
 
 TEST(GameRules, PausedOrWonNothingMoves) {
@@ -95,9 +95,8 @@ TEST(GameRecording, TheCheckedInSessionWinsTheSameWayTwice) {
         Game::Events e = a.advance(r.frames[i]);
         b.advance(r.frames[i]);
         if (e.won) wonAt = int(i);
-        // The partition's west face is at x = -2.1: the capsule never passes it.
-        if (a.player().feet.z > 1.0f && a.player().feet.z < 3.0f && a.player().feet.x < -1.0f)
-            EXPECT_LE(a.player().feet.x, -2.1f - a.params().radius + 1e-3f) << "frame " << i;
+        // The south wall is at z = 4: the capsule never passes it.
+        EXPECT_LE(a.player().feet.z, 4.0f - a.params().radius + 1e-3f) << "frame " << i;
     }
     EXPECT_GE(a.wallHits(), 1);
     EXPECT_EQ(a.taken(), 3);

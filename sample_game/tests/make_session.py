@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes sample_game/tests/data/hall_of_mirrors.session: the checked-in recording the replay test
 plays (sample_game/README.md). A person would record it with `speculum-game --record`; this script
-writes the same format from a plan, so that it can be rebuilt after the level changes: walk east
-into the partition (a wall hit), then to each collectible in turn (a jump on the way), then stand
+writes the same format from a plan, so that it can be rebuilt after the level changes: walk north
+into the south wall (a wall hit), then to each collectible in turn (a jump on the way), then stand
 on the win screen. Frame times vary between 40 and 60 ms, like a recorded session on lavapipe;
 frames 45-79 render at half the internal resolution (the dynamic resolution's resizes, with the
 temporal history, under validation)."""
@@ -52,12 +52,12 @@ def yaw_to(a, b):
 
 
 def main():
-    pos = (-3.5, 2.0)
-    yaw = math.atan2(-2.5, 4.5)  # the camera `main` looks towards (-1.0, 0.6, -2.5)
+    pos = (-3.5, 0.3)
+    yaw = math.atan2(-5.0, 1.3)  # the camera `main` looks towards (1.5, 0.9, -1.0)
     idle(0.3)
-    yaw = turn(yaw, -math.pi / 2)  # east, into the partition at x = -2.1
-    walk(1.2)
-    pos = (-2.1 - 0.3, 2.0)
+    yaw = turn(yaw, math.pi)  # north (+z), into the south wall at z = 4
+    walk(1.5)
+    pos = (-3.5, 4.0 - 0.3)
     for i, target in enumerate(((-3.5, -2.5), (3.0, -3.0), (3.5, 2.5))):
         yaw = turn(yaw, yaw_to(pos, target))
         dist = math.hypot(target[0] - pos[0], target[1] - pos[1])

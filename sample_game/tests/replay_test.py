@@ -13,7 +13,7 @@ import shutil
 import subprocess
 import sys
 
-SHOTS = (5, 40, 60, 95, 184)  # start, after the wall hit, at half resolution, by the ball, on the win screen
+SHOTS = (5, 40, 60, 110, 199)  # start, after the wall hit, at half resolution, by the ball, on the win screen
 
 
 def main():

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# measure_fps.sh [FRAMES]: speculum-game's frame rate per preset under Xvfb at the default window
+# (1280x720), standing at the start of the hall of mirrors with dynamic resolution on
+# (sample_game/README.md). Prints per preset the median of the game's fps lines after the first
+# three (warm-up), the internal resolution it settled at and the GPU ms. Measured, never
+# asserted: the machine is shared and noisy.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+frames=${1:-200}
+echo "load average: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
+for preset in low medium high; do
+  log=$(MESA_SHADER_CACHE_DIR=$root/build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
+    "$root/build/sample_game/speculum-game" --preset "$preset" --frames "$frames" 2>&1 | grep ' fps ')
+  echo "$log" | tail -n +4 | python3 -c "
+import re, statistics, sys
+rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]
+fps = statistics.median(float(r[0]) for r in rows)
+gpu = statistics.median(float(r[1]) for r in rows)
+print('$preset: %.1f fps (median of %d readings), GPU %.1f ms, internal %s at the end' % (fps, len(rows), gpu, rows[-1][2]))"
+done
