@@ -59,7 +59,7 @@ vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
         if (!reflective) return dim;
         if (info.z > 1.5) return vec3(0.9, 0.1, 0.1);
         if (info.z > 0.5) return hues[(int(info.y) - 1) & 3] * bright;
-        return vec3(0.05) + dim;
+        return vec3(0.05);
     }
     if (view == 5u) {
         int level = min(int(rf.debugHizMip), int(rf.hizLevels) - 1);

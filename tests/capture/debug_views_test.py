@@ -45,14 +45,14 @@ CMO_MAX_ITERATIONS = 256  # reflections.cmo_max_iterations's default
 
 def expected_cmo(x, y, cmo, dim):
     """The cmo view (composite.comp): hue by the CMO that hit, brightness by iterations; red
-    where every CMO left the ray unresolved; 0.05 over the dimmed image where none was traced."""
+    where every CMO left the ray unresolved; 0.05 grey where none was traced."""
     its, which, outcome = cmo["R"][y][x], cmo["G"][y][x], cmo["B"][y][x]
     if outcome > 1.5:
         return (0.9, 0.1, 0.1)
     if outcome > 0.5:
         bright = 0.35 + 0.65 * min(max(its / (CMO_MAX_ITERATIONS * 0.25), 0.0), 1.0)
         return tuple(c * bright for c in CMO_HUES[(int(which) - 1) & 3])
-    return (0.05 + dim,) * 3
+    return (0.05,) * 3
 
 
 def expected_views(x, y, hit, method, reflection):
