@@ -12,7 +12,7 @@ PACKAGES=(
   libglm-dev libglfw3-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libimgui-dev libopenimageio-dev openimageio-tools libcli11-dev
   libgtest-dev libgmock-dev
-  xvfb xauth python3
+  xvfb xauth python3 x11-apps
   libembree-dev python3-matplotlib
 )
 
