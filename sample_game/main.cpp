@@ -25,6 +25,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -126,6 +127,8 @@ struct Hud {
     bool paused = false;
 };
 
+GLFWwindow* gWindow = nullptr;
+
 void checkbox(Settings& settings, const char* label, const std::string& name) {
     bool v = settings.getBool(name);
     if (ImGui::Checkbox(label, &v)) settings.set(name, v ? 1.0 : 0.0);
@@ -178,7 +181,7 @@ void drawHud(Hud& hud, Settings& settings, const game::Game& game, VkExtent2D wi
         ImGui::Separator();
         if (ImGui::Button("Resume")) hud.paused = false;
         ImGui::SameLine();
-        if (ImGui::Button("Quit")) glfwSetWindowShouldClose(glfwGetCurrentContext(), GLFW_TRUE);
+        if (ImGui::Button("Quit")) glfwSetWindowShouldClose(gWindow, GLFW_TRUE);
         ImGui::End();
     }
 }
@@ -191,188 +194,273 @@ float nextScale(float scale, double smoothedMs) {
     return std::abs(wanted - scale) >= kScaleStep - 1e-4f ? wanted : scale;
 }
 
-GLFWwindow* gWindow = nullptr;
-bool* gPaused = nullptr;
+// The game's window, device, modules and state; one frame() per loop.
+class GameApp {
+public:
+    explicit GameApp(Options opt);
+    // One loop: input, simulation, probe updates, render, dynamic resolution. False: done.
+    bool frame();
+    // The recording, the summary and the validation verdict: the exit status.
+    int finish();
 
-int run(Options opt) {
-    game::Recording replay;
-    bool replaying = !opt.replay.empty();
-    if (replaying) {
-        replay = game::readRecording(opt.replay);
-        opt.scene = sceneFile(replay.scene);
-        opt.size = std::to_string(replay.width) + "x" + std::to_string(replay.height);
-        opt.preset = replay.preset;
+private:
+    game::FrameInput nextInput(double wallMs, bool& done);
+    void apply(const game::Game::Events& ev);
+    void render(const game::FrameInput& in);
+    void adaptScale(double wallMs);
+    VkExtent2D internalOf(VkExtent2D e, float s) const {
+        return {std::max(16u, uint32_t(std::lround(float(e.width) * s))),
+                std::max(16u, uint32_t(std::lround(float(e.height) * s)))};
     }
-    auto [width, height] = app::parseSize(opt.size);
-    if (!app::displayAvailable()) {
-        std::cerr << "speculum-game: no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable); render "
-                     "headless instead: build/engine/speculum-capture --scene "
-                  << opt.scene << " --out out/\n";
-        return 1;
-    }
-    Scene scene = loadScene(opt.scene);
+
+    game::Recording replay_;  // before opt_: withReplay() fills it while opt_ is initialised
+    Options opt_;
+    bool replaying_;
+    Scene scene_;
+    Settings settings_;
+    game::Game game_;
+    app::Window window_;
+    gpu::Context ctx_;
+    render::Renderer renderer_;
+    probes::Probes probes_;
+    reflections::Reflections module_;
+    app::Swapchain swapchain_;
+    Hud hud_;
+    std::unique_ptr<editor::UiLayer> ui_;
+    float scale_ = 1.0f;
+    VkExtent2D internal_{};
+    std::unique_ptr<app::FrameRunner> runner_;
+    game::Recording recording_;
+    double lastX_ = 0, lastY_ = 0;
+    render::FrameInputs frame_;
+    bool first_ = true, baked_ = true;
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+    double fpsTime_ = 0.0, smoothedMs_ = 0.0;
+    int fpsFrames_ = 0, frames_ = 0, sinceResize_ = 0;
+    size_t cursor_ = 0;  // the recording's frame: one per loop, rendered or not (a swapchain re-creation)
+    std::vector<app::PassTime> lastPasses_;
+};
+
+bool* gPaused = nullptr;
+const game::Game* gGame = nullptr;
+
+// Everything a replay fixes comes from the recording before anything opens.
+Options withReplay(Options opt, game::Recording& replay) {
+    if (opt.replay.empty()) return opt;
+    replay = game::readRecording(opt.replay);
+    opt.scene = sceneFile(replay.scene);
+    opt.size = std::to_string(replay.width) + "x" + std::to_string(replay.height);
+    opt.preset = replay.preset;
+    return opt;
+}
+
+Settings presetSettings(const Options& opt) {
     Settings settings(app::settingsOf({}, {probes::moduleInfo(), reflections::moduleInfo()}));
     loadPreset(settings, opt.preset);
     for (const std::string& kv : opt.sets) settings.assign(kv);
-    game::Game game(scene);
-    if (game.collectibles().empty())
-        std::cout << "speculum-game: " << opt.scene << " has no collectible.N nodes: nothing to find\n";
+    return settings;
+}
 
-    app::Window window("Speculum", width, height);
-    gpu::Context ctx(gpu::ContextOptions{
-        .deviceName = opt.device, .instanceExtensions = app::Window::requiredExtensions(), .swapchain = true});
+gpu::ContextOptions contextOptions(const Options& opt) {
+    return {.deviceName = opt.device, .instanceExtensions = app::Window::requiredExtensions(), .swapchain = true};
+}
+
+// The context, once the scene's buffers are known to fit its memory.
+const gpu::Context& fitted(const gpu::Context& ctx, const Scene& scene) {
     app::checkSceneFitsDevice(ctx, scene);
-    render::Renderer renderer(ctx, scene);
-    probes::Probes probeModule(ctx, renderer, probes::ProbeSettings::from(settings));
-    reflections::Reflections module(ctx, renderer);
-    app::Swapchain swapchain(ctx, window);
+    return ctx;
+}
 
-    Hud hud;
-    hud.preset = int(std::find(std::begin(kPresets), std::end(kPresets), opt.preset) - std::begin(kPresets));
-    gWindow = window.handle();
-    gPaused = &hud.paused;
+uint32_t widthOf(const Options& opt) { return app::parseSize(opt.size).first; }
+uint32_t heightOf(const Options& opt) { return app::parseSize(opt.size).second; }
+
+GameApp::GameApp(Options opt)
+    : replay_(),
+      opt_(withReplay(std::move(opt), replay_)),
+      replaying_(!opt_.replay.empty()),
+      scene_(loadScene(opt_.scene)),
+      settings_(presetSettings(opt_)),
+      game_(scene_),
+      window_("Speculum", widthOf(opt_), heightOf(opt_)),
+      ctx_(contextOptions(opt_)),
+      renderer_(fitted(ctx_, scene_), scene_),
+      probes_(ctx_, renderer_, probes::ProbeSettings::from(settings_)),
+      module_(ctx_, renderer_),
+      swapchain_(ctx_, window_) {
+    if (game_.collectibles().empty())
+        std::cout << "speculum-game: " << opt_.scene << " has no collectible.N nodes: nothing to find\n";
+    hud_.preset = int(std::find(std::begin(kPresets), std::end(kPresets), opt_.preset) - std::begin(kPresets));
+    gPaused = &hud_.paused;
+    gGame = &game_;
+    gWindow = window_.handle();
     // Before the UI layer: ImGui's GLFW backend chains the callbacks installed before it.
-    glfwSetKeyCallback(window.handle(), [](GLFWwindow* w, int key, int, int action, int) {
+    glfwSetKeyCallback(window_.handle(), [](GLFWwindow* w, int key, int, int action, int) {
         if (key != GLFW_KEY_ESCAPE || action != GLFW_PRESS) return;
+        if (gGame->won()) {
+            glfwSetWindowShouldClose(w, GLFW_TRUE);
+            return;
+        }
         *gPaused = !*gPaused;
+        std::printf("%s\n", *gPaused ? "paused" : "resumed");
         glfwSetInputMode(w, GLFW_CURSOR, *gPaused ? GLFW_CURSOR_NORMAL : GLFW_CURSOR_DISABLED);
     });
-    editor::UiLayer ui(ctx, window.handle(), swapchain.format(), swapchain.imageCount());
-    if (!replaying) glfwSetInputMode(window.handle(), GLFW_CURSOR, GLFW_CURSOR_DISABLED);
+    ui_ = std::make_unique<editor::UiLayer>(ctx_, window_.handle(), swapchain_.format(), swapchain_.imageCount());
+    if (!replaying_) glfwSetInputMode(window_.handle(), GLFW_CURSOR, GLFW_CURSOR_DISABLED);
+    VkExtent2D extent = swapchain_.extent();
+    scale_ = opt_.scale > 0.0f ? opt_.scale
+                               : std::clamp(float(std::sqrt(256.0 * 144.0 / (double(extent.width) * extent.height))),
+                                            kMinScale, 1.0f);
+    internal_ = internalOf(extent, scale_);
+    runner_ = std::make_unique<app::FrameRunner>(ctx_, renderer_, internal_.width, internal_.height);
+    recording_ = {std::filesystem::path(opt_.scene).filename().string(), widthOf(opt_), heightOf(opt_), opt_.preset, {}};
+    glfwGetCursorPos(window_.handle(), &lastX_, &lastY_);
+    frame_.primaryView = true;
+}
 
-    VkExtent2D extent = swapchain.extent();
-    float scale = opt.scale > 0.0f ? opt.scale
-                                   : std::clamp(float(std::sqrt(256.0 * 144.0 / (double(extent.width) * extent.height))),
-                                                kMinScale, 1.0f);
-    auto internalOf = [&](VkExtent2D e, float s) {
-        return VkExtent2D{std::max(16u, uint32_t(std::lround(float(e.width) * s))),
-                          std::max(16u, uint32_t(std::lround(float(e.height) * s)))};
-    };
-    VkExtent2D internal = internalOf(extent, scale);
-    app::FrameRunner runner(ctx, renderer, internal.width, internal.height);
+game::FrameInput GameApp::nextInput(double wallMs, bool& done) {
+    game::FrameInput in;
+    if (replaying_) {
+        done = cursor_ >= replay_.frames.size();
+        return done ? in : replay_.frames[cursor_++];
+    }
+    in = liveInput(window_.handle(), !hud_.paused && !game_.won(), lastX_, lastY_);
+    // A probe re-bake's frame is not a frame of play: the player does not jump ahead.
+    in.dt = first_ || baked_ ? float(game::kStep) : float(std::min(wallMs, 100.0) / 1000.0);
+    in.scale = scale_;
+    recording_.frames.push_back(in);
+    return in;
+}
 
-    game::Recording recording{std::filesystem::path(opt.scene).filename().string(), width, height, opt.preset, {}};
-    double lastX = 0, lastY = 0;
-    glfwGetCursorPos(window.handle(), &lastX, &lastY);
-    render::FrameInputs frame;
-    frame.primaryView = true;
-    bool first = true;
-    auto last = std::chrono::steady_clock::now();
-    double fpsTime = 0.0, smoothedMs = 0.0;
-    int fpsFrames = 0, frames = 0, sinceResize = 0;
-    size_t cursor = 0;  // the recording's frame: one per loop, rendered or not (a swapchain re-creation)
-    bool baked = true;
-    std::vector<app::PassTime> lastPasses;
-    while (!window.shouldClose() && (opt.frames <= 0 || frames < opt.frames)) {
-        glfwPollEvents();
-        auto now = std::chrono::steady_clock::now();
-        double wallMs = std::chrono::duration<double, std::milli>(now - last).count();
-        last = now;
-        game::FrameInput in;
-        if (replaying) {
-            if (cursor >= replay.frames.size()) break;
-            in = replay.frames[cursor++];
-        } else {
-            in = liveInput(window.handle(), !hud.paused && !game.won(), lastX, lastY);
-            // A probe re-bake's frame is not a frame of play: the player does not jump ahead.
-            in.dt = first || baked ? float(game::kStep) : float(std::min(wallMs, 100.0) / 1000.0);
-            in.scale = scale;
-            recording.frames.push_back(in);
-        }
-        game::Game::Events ev = game.advance(in, hud.paused);
-        if (ev.hitWall)
-            std::printf("frame %d: wall hit at (%.2f, %.2f)\n", frames, game.player().feet.x, game.player().feet.z);
-        for (int i : ev.collected) {
-            const game::Collectible& c = game.collectibles()[size_t(i)];
-            std::printf("frame %d: collected %s (%d/%zu) at %.2f s\n", frames, c.name.c_str(), game.taken(),
-                        game.collectibles().size(), game.time());
-            // Gone from the main view and, after the re-bake, from every reflection.
-            renderer.setNodeVisible(c.node, false);
-            probeModule.requestUpdate(-1);
-        }
-        if (ev.won)
-            std::printf("frame %d: won: all %zu found in %.2f s, %d wall hits\n", frames, game.collectibles().size(),
-                        game.time(), game.wallHits());
+void GameApp::apply(const game::Game::Events& ev) {
+    if (ev.hitWall)
+        std::printf("frame %d: wall hit at (%.2f, %.2f)\n", frames_, game_.player().feet.x, game_.player().feet.z);
+    for (int i : ev.collected) {
+        const game::Collectible& c = game_.collectibles()[size_t(i)];
+        std::printf("frame %d: collected %s (%d/%zu) at %.2f s\n", frames_, c.name.c_str(), game_.taken(),
+                    game_.collectibles().size(), game_.time());
+        // Gone from the main view and, after the re-bake, from every reflection.
+        renderer_.setNodeVisible(c.node, false);
+        probes_.requestUpdate(-1);
+    }
+    if (ev.won)
+        std::printf("frame %d: won: all %zu found in %.2f s, %d wall hits\n", frames_, game_.collectibles().size(),
+                    game_.time(), game_.wallHits());
+    std::fflush(stdout);
+    baked_ = !ev.collected.empty();
+}
+
+bool GameApp::frame() {
+    if (window_.shouldClose() || (opt_.frames > 0 && frames_ >= opt_.frames)) return false;
+    glfwPollEvents();
+    auto now = std::chrono::steady_clock::now();
+    double wallMs = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    bool done = false;
+    game::FrameInput in = nextInput(wallMs, done);
+    if (done) return false;
+    apply(game_.advance(in, hud_.paused));
+    if (reflections::probesInUse(settings_))
+        probes_.update(frames_ == 0 ? probes::Probes::terminalProgress() : probes::Probes::Progress{});
+    if (!swapchain_.acquire()) return true;
+    render(in);
+    ++frames_;
+    if (opt_.frames > 0 && (frames_ % 100 == 0 || frames_ == opt_.frames))
+        std::cout << "frame " << frames_ << ": rss " << residentMb() << " MB\n" << std::flush;
+    adaptScale(wallMs);
+    fpsTime_ += wallMs / 1000.0;
+    if (++fpsFrames_ >= 10 || fpsTime_ > 1.0) {
+        hud_.fps = fpsFrames_ / std::max(1e-6, fpsTime_);
+        std::printf("%.1f fps (GPU %.1f ms) at %ux%u, preset %s\n", hud_.fps, hud_.gpuMs, internal_.width,
+                    internal_.height, kPresets[hud_.preset]);
         std::fflush(stdout);
-        baked = !ev.collected.empty();
-        if (reflections::probesInUse(settings))
-            probeModule.update(frames == 0 ? probes::Probes::terminalProgress() : probes::Probes::Progress{});
-        if (!swapchain.acquire()) continue;
-        extent = swapchain.extent();
-        VkExtent2D was = internal;
-        internal = internalOf(extent, replaying ? in.scale : scale);
-        if (internal.width != was.width || internal.height != was.height) {
-            runner.resize(internal.width, internal.height);
-            std::printf("frame %d: internal resolution %ux%u\n", frames, internal.width, internal.height);
-            // Last frame's history has the old size: start the temporal accumulation afresh.
-            module.resetHistory();
-        }
-        frame.previousCamera = frame.camera;
-        frame.camera = render::makeCamera(game.eye(), game.eye() + game.forward(), {0, 1, 0}, glm::radians(70.0f),
-                                          internal.width, internal.height);
-        if (first) frame.previousCamera = frame.camera;
-        first = false;
+        fpsTime_ = 0.0;
+        fpsFrames_ = 0;
+    }
+    return true;
+}
 
-        ui.beginInput();
-        ImGui::NewFrame();
-        drawHud(hud, settings, game, extent, internal, replaying);
-        ImGui::Render();
-        std::vector<std::string> aovs;
-        if (opt.shotFrames.count(frames)) aovs.push_back("color");
-        app::FrameResult result = runner.render(
-            frame, aovs, reflections::litHook(module, &probeModule, settings, frame),
-            [&](FrameGraph& g, TextureHandle color) { addPresentPasses(g, color, swapchain, ui); },
-            swapchain.acquired(), swapchain.rendered());
-        swapchain.present();
-        ui.endFrame();
-        lastPasses = result.passes;
-        if (!aovs.empty()) {
-            char name[64];
-            std::snprintf(name, sizeof name, "frame.%04d.png", frames);
-            std::filesystem::create_directories(opt.shots);
-            app::writePng(std::filesystem::path(opt.shots) / name, result.aovs.at("color"));
-        }
-        ++frames;
-        if (opt.frames > 0 && (frames % 100 == 0 || frames == opt.frames))
-            std::cout << "frame " << frames << ": rss " << residentMb() << " MB\n" << std::flush;
-        // Dynamic resolution, from the wall time of whole frames (what the player feels).
-        if (!replaying && opt.scale <= 0.0f && !baked && frames > 2) {
-            smoothedMs = smoothedMs == 0.0 ? wallMs : 0.7 * smoothedMs + 0.3 * wallMs;
-            if (++sinceResize >= 6) {
-                float next = nextScale(scale, smoothedMs);
-                if (next != scale) {
-                    scale = next;
-                    sinceResize = 0;
-                    smoothedMs = 0.0;
-                }
-            }
-        }
-        fpsTime += wallMs / 1000.0;
-        if (++fpsFrames >= 10 || fpsTime > 1.0) {
-            hud.fps = fpsFrames / std::max(1e-6, fpsTime);
-            hud.gpuMs = result.frameMs;
-            std::printf("%.1f fps (GPU %.1f ms) at %ux%u, preset %s\n", hud.fps, hud.gpuMs, internal.width,
-                        internal.height, kPresets[hud.preset]);
-            std::fflush(stdout);
-            fpsTime = 0.0;
-            fpsFrames = 0;
-        }
+void GameApp::render(const game::FrameInput& in) {
+    VkExtent2D extent = swapchain_.extent(), was = internal_;
+    internal_ = internalOf(extent, replaying_ ? in.scale : scale_);
+    if (internal_.width != was.width || internal_.height != was.height) {
+        runner_->resize(internal_.width, internal_.height);
+        std::printf("frame %d: internal resolution %ux%u\n", frames_, internal_.width, internal_.height);
+        // Last frame's history has the old size: start the temporal accumulation afresh.
+        module_.resetHistory();
     }
-    std::sort(lastPasses.begin(), lastPasses.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
+    frame_.previousCamera = frame_.camera;
+    frame_.camera = render::makeCamera(game_.eye(), game_.eye() + game_.forward(), {0, 1, 0}, glm::radians(70.0f),
+                                       internal_.width, internal_.height);
+    if (first_) frame_.previousCamera = frame_.camera;
+    first_ = false;
+    ui_->beginInput();
+    ImGui::NewFrame();
+    drawHud(hud_, settings_, game_, extent, internal_, replaying_);
+    ImGui::Render();
+    std::vector<std::string> aovs;
+    if (opt_.shotFrames.count(frames_)) aovs.push_back("color");
+    app::FrameResult result = runner_->render(
+        frame_, aovs, reflections::litHook(module_, &probes_, settings_, frame_),
+        [&](FrameGraph& g, TextureHandle color) { addPresentPasses(g, color, swapchain_, *ui_); },
+        swapchain_.acquired(), swapchain_.rendered());
+    swapchain_.present();
+    ui_->endFrame();
+    lastPasses_ = result.passes;
+    hud_.gpuMs = result.frameMs;
+    if (!aovs.empty()) {
+        char name[64];
+        std::snprintf(name, sizeof name, "frame.%04d.png", frames_);
+        std::filesystem::create_directories(opt_.shots);
+        app::writePng(std::filesystem::path(opt_.shots) / name, result.aovs.at("color"));
+    }
+}
+
+// Dynamic resolution, from the wall time of whole frames (what the player feels).
+void GameApp::adaptScale(double wallMs) {
+    if (replaying_ || opt_.scale > 0.0f || baked_ || frames_ <= 2) return;
+    smoothedMs_ = smoothedMs_ == 0.0 ? wallMs : 0.7 * smoothedMs_ + 0.3 * wallMs;
+    if (++sinceResize_ < 6) return;
+    float next = nextScale(scale_, smoothedMs_);
+    if (next == scale_) return;
+    scale_ = next;
+    sinceResize_ = 0;
+    smoothedMs_ = 0.0;
+}
+
+int GameApp::finish() {
+    std::sort(lastPasses_.begin(), lastPasses_.end(), [](const auto& a, const auto& b) { return a.ms > b.ms; });
     std::printf("costliest passes of the last frame:");
-    for (size_t i = 0; i < lastPasses.size() && i < 6; ++i) std::printf(" %s %.1f ms", lastPasses[i].name.c_str(), lastPasses[i].ms);
+    for (size_t i = 0; i < lastPasses_.size() && i < 6; ++i)
+        std::printf(" %s %.1f ms", lastPasses_[i].name.c_str(), lastPasses_[i].ms);
     std::printf("\n");
-    if (!opt.record.empty()) {
-        game::writeRecording(opt.record, recording);
-        std::cout << "speculum-game: recorded " << recording.frames.size() << " frames to " << opt.record << "\n";
+    if (!opt_.record.empty()) {
+        game::writeRecording(opt_.record, recording_);
+        std::cout << "speculum-game: recorded " << recording_.frames.size() << " frames to " << opt_.record << "\n";
     }
-    std::printf("speculum-game: %d frames, found %d/%zu, %s\n", frames, game.taken(), game.collectibles().size(),
-                game.won() ? "won" : "not won");
-    if (ctx.validationEnabled() && gpu::Context::validationMessageCount() > 0) {
+    std::printf("speculum-game: %d frames, found %d/%zu, %s\n", frames_, game_.taken(), game_.collectibles().size(),
+                game_.won() ? "won" : "not won");
+    if (ctx_.validationEnabled() && gpu::Context::validationMessageCount() > 0) {
         std::cerr << "speculum-game: " << gpu::Context::validationMessageCount() << " Vulkan validation messages\n";
         return 1;
     }
     return 0;
+}
+
+int run(const Options& opt) {
+    // The recording names the scene; the display check comes before anything loads.
+    game::Recording probe;
+    Options resolved = opt.replay.empty() ? opt : withReplay(opt, probe);
+    app::parseSize(resolved.size);
+    if (!app::displayAvailable()) {
+        std::cerr << "speculum-game: no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable); render "
+                     "headless instead: build/engine/speculum-capture --scene "
+                  << resolved.scene << " --out out/\n";
+        return 1;
+    }
+    GameApp app(opt);
+    while (app.frame()) {
+    }
+    return app.finish();
 }
 
 }  // namespace
@@ -409,6 +497,8 @@ int main(int argc, char** argv) {
             }
         }
         if (!opt.shotFrames.empty() && opt.shots.empty()) throw argumentError("--shot-frames needs --shots DIR");
+        if (std::find(std::begin(kPresets), std::end(kPresets), opt.preset) == std::end(kPresets))
+            throw argumentError("--preset " + opt.preset + ": expected low, medium or high");
         return run(opt);
     } catch (const Error& e) {
         std::cerr << "speculum-game: " << e.what() << "\n";
