@@ -30,18 +30,22 @@ def loadavg():
 
 
 def scene_with_resolution(scene, res, out):
+    """A copy of the scene with every CMO at `res` px, in OUT/scenes beside links to its buffers
+    (the loader takes uris relative to the file) and OUT/env to the skies."""
     doc = json.loads(scene.read_text())
     for n in doc.get("nodes", []):
         ext = n.get("extensions", {}).get("SPECULUM_reflection_probe")
         if ext and ext.get("kind") == "cmo":
             ext["resolution"] = res
+    folder = out / "scenes"
+    folder.mkdir(parents=True, exist_ok=True)
     for b in doc.get("buffers", []):
-        if not b.get("uri", "data:").startswith("data:"):
-            b["uri"] = str(scene.parent / b["uri"])
-    extras = doc["scenes"][doc.get("scene", 0)].get("extras", {})
-    if "environment" in extras:
-        extras["environment"] = str((scene.parent / extras["environment"]).resolve())
-    path = out / f"{scene.stem}.cmo{res}.gltf"
+        uri = b.get("uri", "data:")
+        if not uri.startswith("data:") and not (folder / uri).exists():
+            (folder / uri).symlink_to(scene.parent / uri)
+    if not (out / "env").exists():
+        (out / "env").symlink_to(SOURCE / "assets" / "env")
+    path = folder / f"{scene.stem}.cmo{res}.gltf"
     path.write_text(json.dumps(doc))
     return path
 
