@@ -75,6 +75,12 @@ void writeRecording(const std::filesystem::path& file, const Recording& r) {
     }
 }
 
+float nextScale(float scale, double frameMs, double targetMs, float minScale, float step) {
+    float wanted = scale * float(std::sqrt(targetMs / std::max(1.0, frameMs)));
+    wanted = std::clamp(std::round(wanted / step) * step, minScale, 1.0f);
+    return std::abs(wanted - scale) >= step - 1e-4f ? wanted : scale;
+}
+
 Game::Game(const Scene& scene, const PlayerParams& params) : params_(params) {
     level_ = levelFromScene(scene, [&](int node) { return node < 0 || !isCollectible(scene.nodes[size_t(node)].name); });
     for (size_t i = 0; i < scene.nodes.size(); ++i)

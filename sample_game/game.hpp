@@ -42,6 +42,12 @@ struct Collectible {
 
 inline constexpr float kMouseRadiansPerPixel = 0.0025f;
 
+// The dynamic resolution's next scale of the window for the internal image: the scale moves by
+// the square root of target / frame time (pixels go with its square), rounded to `step` and kept in
+// [minScale, 1]; it changes only by at least one step, so the graph's images are not resized for
+// noise.
+float nextScale(float scale, double frameMs, double targetMs, float minScale = 0.15f, float step = 0.05f);
+
 class Game {
 public:
     // The level is every mesh but the collectibles; the player starts at the camera `main` (or

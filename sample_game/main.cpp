@@ -186,13 +186,6 @@ void drawHud(Hud& hud, Settings& settings, const game::Game& game, VkExtent2D wi
     }
 }
 
-// The dynamic resolution: the scale moves by the square root of the frame-time ratio (pixels go
-// with its square), in steps, so that the graph's images are not resized every frame.
-float nextScale(float scale, double smoothedMs) {
-    float wanted = scale * float(std::sqrt(kTargetMs / std::max(1.0, smoothedMs)));
-    wanted = std::clamp(std::round(wanted / kScaleStep) * kScaleStep, kMinScale, 1.0f);
-    return std::abs(wanted - scale) >= kScaleStep - 1e-4f ? wanted : scale;
-}
 
 // The game's window, device, modules and state; one frame() per loop.
 class GameApp {
@@ -420,7 +413,7 @@ void GameApp::adaptScale(double wallMs) {
     if (replaying_ || opt_.scale > 0.0f || baked_ || frames_ <= 2) return;
     smoothedMs_ = smoothedMs_ == 0.0 ? wallMs : 0.7 * smoothedMs_ + 0.3 * wallMs;
     if (++sinceResize_ < 6) return;
-    float next = nextScale(scale_, smoothedMs_);
+    float next = game::nextScale(scale_, smoothedMs_, kTargetMs, kMinScale, kScaleStep);
     if (next == scale_) return;
     scale_ = next;
     sinceResize_ = 0;

@@ -53,6 +53,18 @@ TEST(GameRules, PausedOrWonNothingMoves) {
     EXPECT_EQ(game.time(), 0.0);
 }
 
+TEST(GameDynamicResolution, FollowsTheFrameTimeInSteps) {
+    // Twice the target's time: pixels halve, the scale drops by sqrt(2) (0.8 -> 0.566 -> 0.55).
+    EXPECT_FLOAT_EQ(nextScale(0.8f, 120.0, 60.0), 0.55f);
+    // Half the target's time: up by sqrt(2), capped at 1.
+    EXPECT_FLOAT_EQ(nextScale(0.5f, 30.0, 60.0), 0.7f);
+    EXPECT_FLOAT_EQ(nextScale(0.9f, 10.0, 60.0), 1.0f);
+    // Within a step of the target: no resize for noise.
+    EXPECT_FLOAT_EQ(nextScale(0.5f, 63.0, 60.0), 0.5f);
+    // Never below the floor however slow.
+    EXPECT_FLOAT_EQ(nextScale(0.2f, 1000.0, 60.0), 0.15f);
+}
+
 TEST(GameRecording, RoundTripsBitForBit) {
     Recording r{"hall_of_mirrors.gltf", 320, 180, "low", {}};
     r.frames = {{0.0412345678f, 17, -123.456f, 0.1f, 0.55f}, {1.0f / 60.0f, 0, 0.0f, -3.0f, 1.0f}};

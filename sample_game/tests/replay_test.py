@@ -38,6 +38,9 @@ def main():
     won = re.search(r"frame (\d+): won: all (\d+) found", log)
     if not walls:
         failures.append("no wall hit")
+    elif not any(abs(float(z) - (4.0 - 0.3)) < 0.02 for _, _, z in walls):
+        # The session walks north into the south wall (z = 4): the capsule (r = 0.3) stops at 3.70.
+        failures.append("no stop at the south wall: wall hits at %s" % [(x, z) for _, x, z in walls])
     if len({c[1] for c in collected}) != 3:
         failures.append("collected %s, expected collectible.0-2" % sorted({c[1] for c in collected}))
     if not won:

@@ -18,6 +18,17 @@ TEST(HiddenPrimaryExtras, ReadFromTheNode) {
     EXPECT_TRUE(scene.nodes[1].hiddenPrimary);
 }
 
+TEST(HiddenPrimaryExtras, SurvivesASave) {
+    auto dir = tmpDir("hidden_primary");
+    GltfData g = quad();
+    g.doc["nodes"][1]["extras"] = {{"speculum_hidden_primary", true}};
+    Scene scene = loadScene(writeGltf(dir / "hidden_src.gltf", g));
+    saveScene(scene, dir / "hidden_saved.gltf");
+    Scene back = loadScene(dir / "hidden_saved.gltf");
+    EXPECT_TRUE(back.nodes[1].hiddenPrimary);
+    EXPECT_FALSE(back.nodes[0].hiddenPrimary);
+}
+
 TEST(HiddenPrimaryExtras, NotABooleanIsBadInput) {
     auto dir = tmpDir("hidden_primary");
     GltfData g = quad();
