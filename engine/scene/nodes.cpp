@@ -150,7 +150,9 @@ void parseNodes(Scene& scene, const json& doc, const Document& d, const Reader& 
         n.name = r.string(j, "name", where);
         n.mesh = r.index(j, "mesh", where, d.meshes.size(), "meshes");
         n.camera = r.index(j, "camera", where, d.cameras.size(), "cameras");
-        if (const json* extras = r.object(j, "extras", where); extras && extras->contains("speculum_hidden_primary")) {
+        // glTF lets extras be any JSON value; only an object can carry the flag.
+        if (auto extras = j.find("extras");
+            extras != j.end() && extras->is_object() && extras->contains("speculum_hidden_primary")) {
             const json& h = (*extras)["speculum_hidden_primary"];
             if (!h.is_boolean())
                 r.fail(where + ".extras.speculum_hidden_primary", std::string("expected a boolean, got ") + jsonTypeName(h));

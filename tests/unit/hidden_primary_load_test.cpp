@@ -18,6 +18,16 @@ TEST(HiddenPrimaryExtras, ReadFromTheNode) {
     EXPECT_TRUE(scene.nodes[1].hiddenPrimary);
 }
 
+TEST(HiddenPrimaryExtras, ExtrasOfAnyTypeStillLoad) {
+    auto dir = tmpDir("hidden_primary");
+    GltfData g = quad();
+    g.doc["nodes"][0]["extras"] = 5;
+    g.doc["nodes"][1]["extras"] = json::array({"speculum_hidden_primary", true});
+    Scene scene = loadScene(writeGltf(dir / "extras_any.gltf", g));
+    EXPECT_FALSE(scene.nodes[0].hiddenPrimary);
+    EXPECT_FALSE(scene.nodes[1].hiddenPrimary);
+}
+
 TEST(HiddenPrimaryExtras, SurvivesASave) {
     auto dir = tmpDir("hidden_primary");
     GltfData g = quad();
