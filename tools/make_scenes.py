@@ -821,8 +821,8 @@ def build_mirror_hall():
 def build_hall_of_mirrors():
     """The sample game's level (sample_game/README.md): hall 10 m (x) x 3.5 m (y) x 8 m (z), x in
     [-5, 5], y in [0, 3.5], z in [-4, 4]. A flat wall mirror (x = -5), a chrome ball (convex), a
-    concave dish on the east wall, a mirror floor strip, a partition by the start, one local probe
-    over the hall and two CMOs; three collectibles (`collectible.N`, extras
+    concave dish on the east wall, a mirror floor, a partition, one local probe over the hall and
+    the CMOs speculum-probes place chose; three collectibles (`collectible.N`, extras
     speculum_hidden_primary: seen only in reflections, engine/scene/EXTENSIONS.md)."""
     g = Gltf("hall_of_mirrors")
     W, H, D = 5.0, 3.5, 4.0
@@ -877,11 +877,8 @@ def build_hall_of_mirrors():
     g.light("lamp.east", "point", 12.0, LAMP_COLOR, position=(2.5, H - 0.3, 0.0))
     g.probe("reflection_probe.hall", (0.0, H / 2, 0.0), kind="local_cubemap", shape="box",
             extents=[W, H / 2, D], blendDistance=0.25, resolution=128, update="once", order=0)
-    # CMOs where the curved mirrors look: the hall's middle (the ball and the floor) and by the dish.
-    g.probe("cmo.hall", (-0.5, 1.5, 1.0), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
-            resolution=128, update="once", order=1)
-    g.probe("cmo.east", (3.0, 1.5, 0.5), kind="cmo", shape="box", extents=[0.5, 0.5, 0.5], blendDistance=0.0,
-            resolution=128, update="once", order=0)
+    # The CMOs speculum-probes place chose for the curved mirrors (assets/placement/hall_of_mirrors.*).
+    add_placed_cmos(g)
     # The player starts by the west wall, south of the wall mirror, facing the ball.
     g.camera("main", (-3.5, 1.6, 0.3), (1.5, 0.9, -1.0))
     g.camera("overview", (4.5, 3.0, 3.5), (-1.0, 0.5, -1.5))
