@@ -24,6 +24,7 @@ Recording readRecording(const std::filesystem::path& file) {
     Recording r;
     std::string line;
     int number = 0;
+    std::vector<std::string> sets;  // `s` lines waiting for their frame
     auto fail = [&](const std::string& why) {
         throw inputError(file.string(), "line " + std::to_string(number) + ": " + why);
     };
@@ -45,9 +46,15 @@ Recording readRecording(const std::filesystem::path& file) {
                 fail("size: expected WxH between 16 and 8192");
         } else if (key == "preset") {
             if (!(s >> r.preset)) fail("preset: expected a name");
+        } else if (key == "s") {
+            std::string kv;
+            if (!(s >> kv) || kv.find('=') == std::string::npos) fail("s: expected KEY=VALUE");
+            sets.push_back(kv);
         } else if (key == "f") {
             FrameInput f;
             if (!(s >> f.dt >> f.keys >> f.dx >> f.dy >> f.scale)) fail("f: expected dt keys dx dy scale");
+            f.sets = std::move(sets);
+            sets.clear();
             if (!std::isfinite(f.dt) || f.dt < 0.0f || f.dt > 1.0f) fail("f: dt must be in [0, 1] s");
             if (!std::isfinite(f.dx) || !std::isfinite(f.dy)) fail("f: mouse motion must be finite");
             if (!(f.scale >= 0.1f && f.scale <= 1.0f)) fail("f: scale must be in [0.1, 1]");
@@ -66,9 +73,11 @@ void writeRecording(const std::filesystem::path& file, const Recording& r) {
     if (!out) throw inputError(file.string(), "cannot write the recording");
     out << kMagic << "\n"
         << "# f dt(s) keys(1 W, 2 S, 4 A, 8 D, 16 space) mouse-dx mouse-dy(px) internal-scale\n"
+        << "# s KEY=VALUE: a setting the HUD changed, from the next f line's frame on\n"
         << "scene " << r.scene << "\nsize " << r.width << "x" << r.height << "\npreset " << r.preset << "\n";
     char buf[128];
     for (const FrameInput& f : r.frames) {
+        for (const std::string& kv : f.sets) out << "s " << kv << "\n";
         // %.9g: floats survive the round trip bit for bit.
         std::snprintf(buf, sizeof buf, "f %.9g %u %.9g %.9g %.9g\n", f.dt, f.keys, f.dx, f.dy, f.scale);
         out << buf;

@@ -21,6 +21,9 @@ struct FrameInput {
     uint32_t keys = 0;
     float dx = 0.0f, dy = 0.0f;
     float scale = 1.0f;
+    // Settings the HUD changed this frame, before it rendered ("KEY=VALUE"; "preset=NAME" loads a
+    // preset): recorded as `s` lines before the frame's `f` line.
+    std::vector<std::string> sets;
 };
 
 struct Recording {

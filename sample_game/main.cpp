@@ -125,13 +125,26 @@ struct Hud {
     double fps = 0.0, gpuMs = 0.0;
     int preset = 0;
     bool paused = false;
+    std::vector<std::string> changes;  // this frame's settings changes, for the recording
 };
 
 GLFWwindow* gWindow = nullptr;
 
-void checkbox(Settings& settings, const char* label, const std::string& name) {
+// A setting change from the HUD or a recording ("preset=NAME" loads a preset).
+void applySetting(Settings& settings, Hud& hud, const std::string& kv) {
+    if (kv.rfind("preset=", 0) == 0) {
+        std::string name = kv.substr(7);
+        loadPreset(settings, name);
+        hud.preset = int(std::find(std::begin(kPresets), std::end(kPresets), name) - std::begin(kPresets));
+    } else {
+        settings.assign(kv);
+    }
+    hud.changes.push_back(kv);
+}
+
+void checkbox(Settings& settings, Hud& hud, const char* label, const std::string& name) {
     bool v = settings.getBool(name);
-    if (ImGui::Checkbox(label, &v)) settings.set(name, v ? 1.0 : 0.0);
+    if (ImGui::Checkbox(label, &v)) applySetting(settings, hud, name + (v ? "=true" : "=false"));
 }
 
 void drawHud(Hud& hud, Settings& settings, const game::Game& game, VkExtent2D window, VkExtent2D internal,
@@ -144,19 +157,21 @@ void drawHud(Hud& hud, Settings& settings, const game::Game& game, VkExtent2D wi
     ImGui::Text("found %d / %d   time %.1f s", game.taken(), int(game.collectibles().size()), game.time());
     ImGui::Text("%.1f fps   GPU %.1f ms   %ux%u -> %ux%u", hud.fps, hud.gpuMs, internal.width, internal.height,
                 window.width, window.height);
-    if (ImGui::Combo("preset", &hud.preset, kPresets, 3)) loadPreset(settings, kPresets[hud.preset]);
-    checkbox(settings, "screen space", "reflections.screen_space");
+    if (ImGui::Combo("preset", &hud.preset, kPresets, 3))
+        applySetting(settings, hud, std::string("preset=") + kPresets[hud.preset]);
+    checkbox(settings, hud, "screen space", "reflections.screen_space");
     ImGui::SameLine();
-    checkbox(settings, "CMOs", "reflections.cmos");
+    checkbox(settings, hud, "CMOs", "reflections.cmos");
     ImGui::SameLine();
-    checkbox(settings, "probes", "reflections.probes");
+    checkbox(settings, hud, "probes", "reflections.probes");
     ImGui::SameLine();
-    checkbox(settings, "temporal", "reflections.temporal");
+    checkbox(settings, hud, "temporal", "reflections.temporal");
     if (const SettingDesc* dv = settings.find("reflections.debug_view")) {
         int view = settings.getInt(dv->name);
         std::vector<const char*> names;
         for (const std::string& c : dv->choices) names.push_back(c.c_str());
-        if (ImGui::Combo("debug view", &view, names.data(), int(names.size()))) settings.set(dv->name, double(view));
+        if (ImGui::Combo("debug view", &view, names.data(), int(names.size())))
+            applySetting(settings, hud, dv->name + "=" + dv->choices[size_t(view)]);
     }
     ImGui::TextDisabled(replaying ? "replaying a recording" : "Esc: pause menu and controls");
     ImGui::End();
@@ -386,10 +401,17 @@ void GameApp::render(const game::FrameInput& in) {
                                        internal_.width, internal_.height);
     if (first_) frame_.previousCamera = frame_.camera;
     first_ = false;
+    // A replay's recorded HUD changes apply where the player made them: before this frame renders.
+    hud_.changes.clear();
+    for (const std::string& kv : in.sets) applySetting(settings_, hud_, kv);
     ui_->beginInput();
     ImGui::NewFrame();
     drawHud(hud_, settings_, game_, extent, internal_, replaying_);
     ImGui::Render();
+    for (const std::string& kv : hud_.changes) std::printf("frame %d: set %s\n", frames_, kv.c_str());
+    if (!replaying_ && !recording_.frames.empty())
+        // Live input carries no sets: every change here is the HUD's.
+        for (const std::string& kv : hud_.changes) recording_.frames.back().sets.push_back(kv);
     std::vector<std::string> aovs;
     if (opt_.shotFrames.count(frames_)) aovs.push_back("color");
     app::FrameResult result = runner_->render(

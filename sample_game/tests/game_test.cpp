@@ -67,7 +67,8 @@ TEST(GameDynamicResolution, FollowsTheFrameTimeInSteps) {
 
 TEST(GameRecording, RoundTripsBitForBit) {
     Recording r{"hall_of_mirrors.gltf", 320, 180, "low", {}};
-    r.frames = {{0.0412345678f, 17, -123.456f, 0.1f, 0.55f}, {1.0f / 60.0f, 0, 0.0f, -3.0f, 1.0f}};
+    r.frames = {{0.0412345678f, 17, -123.456f, 0.1f, 0.55f, {}},
+                {1.0f / 60.0f, 0, 0.0f, -3.0f, 1.0f, {"reflections.cmos=false", "preset=medium"}}};
     std::filesystem::path file = std::string(SPECULUM_TEST_TMP) + "/game_roundtrip.session";
     std::filesystem::create_directories(file.parent_path());
     writeRecording(file, r);
@@ -82,6 +83,7 @@ TEST(GameRecording, RoundTripsBitForBit) {
         EXPECT_EQ(back.frames[i].dx, r.frames[i].dx);
         EXPECT_EQ(back.frames[i].dy, r.frames[i].dy);
         EXPECT_EQ(back.frames[i].scale, r.frames[i].scale);
+        EXPECT_EQ(back.frames[i].sets, r.frames[i].sets);
     }
 }
 

@@ -5,7 +5,8 @@ writes the same format from a plan, so that it can be rebuilt after the level ch
 into the south wall (a wall hit), then to each collectible in turn (a jump on the way), then stand
 on the win screen. Frame times vary between 40 and 60 ms, like a recorded session on lavapipe;
 frames 45-79 render at half the internal resolution (the dynamic resolution's resizes, with the
-temporal history, under validation)."""
+temporal history, under validation); HUD changes as a player makes them: the CMOs off at frame 140,
+the method debug view at 150, both back at 160."""
 import math
 import os
 
@@ -14,6 +15,8 @@ W, JUMP = 1, 16
 SPEED = 3.0
 
 frames = []
+SETS = {140: ("reflections.cmos=false",), 150: ("reflections.debug_view=method",),
+        160: ("reflections.debug_view=none", "reflections.cmos=true")}
 t_rng = 12345
 
 
@@ -70,6 +73,8 @@ def main():
         f.write("# written by sample_game/tests/make_session.py\n")
         f.write("scene hall_of_mirrors.gltf\nsize 320x180\npreset low\n")
         for i, (d, k, dx, dy) in enumerate(frames):
+            for kv in SETS.get(i, ()):
+                f.write("s %s\n" % kv)
             f.write("f %.9g %d %.9g %.9g %s\n" % (d, k, dx, dy, "0.5" if 45 <= i < 80 else "1"))
     print("wrote %s: %d frames, %.1f s" % (out, len(frames), sum(f[0] for f in frames)))
 

@@ -13,7 +13,8 @@ import shutil
 import subprocess
 import sys
 
-SHOTS = (5, 40, 60, 110, 199)  # start, after the wall hit, at half resolution, by the ball, on the win screen
+# start, after the wall hit, at half resolution, by the ball, CMOs off in the method view, on the win screen
+SHOTS = (5, 40, 60, 110, 155, 199)
 
 
 def main():
@@ -43,6 +44,10 @@ def main():
         failures.append("no stop at the south wall: wall hits at %s" % [(x, z) for _, x, z in walls])
     if len({c[1] for c in collected}) != 3:
         failures.append("collected %s, expected collectible.0-2" % sorted({c[1] for c in collected}))
+    sets = re.findall(r"frame (\d+): set (\S+)", log)
+    if [s[1] for s in sets] != ["reflections.cmos=false", "reflections.debug_view=method", "reflections.debug_view=none",
+                                "reflections.cmos=true"]:
+        failures.append("the recorded HUD changes were not replayed: %s" % sets)
     if not won:
         failures.append("no win")
     elif int(won.group(1)) >= SHOTS[-1]:
