@@ -166,12 +166,17 @@ void drawHud(Hud& hud, Settings& settings, const game::Game& game, VkExtent2D wi
     checkbox(settings, hud, "probes", "reflections.probes");
     ImGui::SameLine();
     checkbox(settings, hud, "temporal", "reflections.temporal");
-    if (const SettingDesc* dv = settings.find("reflections.debug_view")) {
-        int view = settings.getInt(dv->name);
+    // Every hosted module's debug views (reflections.debug_view, probes.debug_view).
+    for (const SettingDesc& dv : settings.table()) {
+        const std::string suffix = ".debug_view";
+        if (dv.type != SettingType::Enum || dv.name.size() < suffix.size() ||
+            dv.name.compare(dv.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+            continue;
+        int view = settings.getInt(dv.name);
         std::vector<const char*> names;
-        for (const std::string& c : dv->choices) names.push_back(c.c_str());
-        if (ImGui::Combo("debug view", &view, names.data(), int(names.size())))
-            applySetting(settings, hud, dv->name + "=" + dv->choices[size_t(view)]);
+        for (const std::string& c : dv.choices) names.push_back(c.c_str());
+        if (ImGui::Combo(dv.name.c_str(), &view, names.data(), int(names.size())))
+            applySetting(settings, hud, dv.name + "=" + dv.choices[size_t(view)]);
     }
     ImGui::TextDisabled(replaying ? "replaying a recording" : "Esc: pause menu and controls");
     ImGui::End();
