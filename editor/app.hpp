@@ -43,6 +43,7 @@ struct GizmoDrag {
     int axis = -1;
     glm::vec3 start{0.0f};
     glm::vec3 current{0.0f};
+    glm::vec3 sent{0.0f};   // the position the probes module last re-bakes from (live re-bake)
     float mouseX = 0, mouseY = 0;
     ReflectionProbe probe;  // extents and blend handles: the previewed probe
 };

@@ -134,7 +134,7 @@ bool EditorApp::gizmoInput(const render::CameraState& cam) {
         const Node& n = doc_.scene().nodes[size_t(selectedNode_)];
         int hit = hitHandle(cam, origin, len, n.world, *n.probe);
         if (hit < 0) return false;
-        drag_ = {hit, origin, origin, mouse.x, mouse.y, *n.probe};
+        drag_ = {hit, origin, origin, origin, mouse.x, mouse.y, *n.probe};
         return true;
     }
     const Node& node = doc_.scene().nodes[size_t(selectedNode_)];
@@ -162,6 +162,14 @@ bool EditorApp::gizmoInput(const render::CameraState& cam) {
             glm::vec3 a, b;
             if (hitPlane(drag_.mouseX, drag_.mouseY, a) && hitPlane(mouse.x, mouse.y, b))
                 drag_.current = drag_.start + (b - a);
+        }
+        // Live re-bake (time-sliced, one face a frame) from where the probe is now; the
+        // release's command rebuilds and bakes it whole.
+        if (drag_.current != drag_.sent) {
+            glm::mat4 world = node.world;
+            world[3] = glm::vec4(drag_.current, 1.0f);
+            viewport_->moveProbeLive(selectedNode_, world);
+            drag_.sent = drag_.current;
         }
         return true;
     }

@@ -58,6 +58,9 @@ public:
     // Bakes what the probes ask for (every probe after a rebuild or requestBake).
     void updateProbes(const probes::Probes::Progress& progress);
     void requestBake(int probe) { probes_->requestUpdate(probe); }
+    // Live re-bake while a probe or CMO is dragged: the probes module captures it again from
+    // `world`, a face per frame (Probes::moveProbe), before the drag's command rebuilds it.
+    void moveProbeLive(int node, const glm::mat4& world) { probes_->moveProbe(node, world); }
     const probes::Probes& probes() const { return *probes_; }
     bool bakePending() const { return bakePending_; }
 

@@ -154,6 +154,8 @@ void Probes::Impl::createCmos() {
     c.pending.assign(c.list.size(), false);
     c.ready.assign(c.list.size(), false);
     c.blind.assign(c.list.size(), false);
+    c.relocating.assign(c.list.size(), -1);
+    c.movedAgain.assign(c.list.size(), false);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         // Far everywhere until captured: a CMO is traced only once its record is written.
         VkClearColorValue far{};
@@ -343,8 +345,9 @@ void Probes::Impl::updateCmos(const Progress& progress) {
     std::vector<size_t> full, sliced;
     for (size_t i = 0; i < c.list.size(); ++i) {
         ProbeUpdate mode = c.list[i].probe.update;
-        // Not yet baked (a blind CMO counts as baked: it is not captured again unless asked).
-        bool start = !c.ready[i] && !c.blind[i] && mode != ProbeUpdate::TimeSliced;
+        // Not yet baked (a blind CMO counts as baked: it is not captured again unless asked; a
+        // moved one is captured again a face per update by stepRelocations).
+        bool start = !c.ready[i] && !c.blind[i] && c.relocating[i] < 0 && mode != ProbeUpdate::TimeSliced;
         if (start || c.pending[i] || mode == ProbeUpdate::EveryFrame) full.push_back(i);
         else if (mode == ProbeUpdate::TimeSliced) sliced.push_back(i);
     }

@@ -153,6 +153,8 @@ void Probes::Impl::allocate() {
     }
     pending.assign(probes.size(), false);
     ready.assign(probes.size(), false);
+    relocating.assign(probes.size(), -1);
+    movedAgain.assign(probes.size(), false);
     records = gpu::Buffer(ctx, sizeof(GpuProbe) * count, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.records");
     std::memset(records.mapped(), 0, records.size());
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
@@ -244,9 +246,71 @@ void Probes::update(const Progress& progress) {
         ++m.slice;
     }
     m.baked = m.baked || !full.empty();
+    m.stepRelocations();
     // CMOs after the probes: their captures see the probes' bake (capture_bounce).
     m.updateCmos(progress ? Progress([](size_t done, size_t total) { app::progress("CMO bake (faces)", done, total); })
                           : Progress{});
+}
+
+bool Probes::moveProbe(int node, const glm::mat4& world) {
+    Impl& m = *impl_;
+    auto restart = [](int& next, std::vector<bool>::reference again) {
+        if (next < 0) next = 0;
+        else again = true;
+    };
+    for (size_t i = 0; i < m.probes.size(); ++i) {
+        if (m.probes[i].node != node) continue;
+        m.probes[i].gpu.worldToLocal = glm::inverse(world);
+        m.probes[i].gpu.center = glm::vec4(glm::vec3(world[3]), m.probes[i].gpu.center.w);
+        restart(m.relocating[i], m.movedAgain[i]);
+        m.writeRecords();
+        return true;
+    }
+    Impl::CmoState& c = *m.cmo;
+    for (size_t i = 0; i < c.list.size(); ++i) {
+        if (c.list[i].node != node) continue;
+        c.list[i].center = glm::vec3(world[3]);
+        c.ready[i] = false;
+        restart(c.relocating[i], c.movedAgain[i]);
+        m.writeCmoRecords();
+        return true;
+    }
+    return false;
+}
+
+bool Probes::relocating() const {
+    const Impl& m = *impl_;
+    auto any = [](const std::vector<int>& v) { return std::any_of(v.begin(), v.end(), [](int f) { return f >= 0; }); };
+    return any(m.relocating) || any(m.cmo->relocating);
+}
+
+void Probes::Impl::stepRelocations() {
+    for (size_t i = 0; i < probes.size(); ++i) {
+        if (relocating[i] < 0) continue;
+        uint32_t face = uint32_t(relocating[i]);
+        captureFace(i, face);
+        if (face < 5) {
+            ++relocating[i];
+            continue;
+        }
+        prefilter(i);
+        relocating[i] = movedAgain[i] ? 0 : -1;
+        movedAgain[i] = false;
+    }
+    CmoState& c = *cmo;
+    for (size_t i = 0; i < c.list.size(); ++i) {
+        if (c.relocating[i] < 0) continue;
+        uint32_t face = uint32_t(c.relocating[i]);
+        captureCmoFace(i, face);
+        if (face < 5) {
+            ++c.relocating[i];
+            continue;
+        }
+        c.relocating[i] = c.movedAgain[i] ? 0 : -1;
+        c.movedAgain[i] = false;
+        // Traced again once a whole cycle from one place is done.
+        if (c.relocating[i] < 0) finishCmo(i);
+    }
 }
 
 ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled, bool cmos) {

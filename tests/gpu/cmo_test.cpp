@@ -321,3 +321,39 @@ TEST_F(CmoGpu, TimeSlicedEqualsOnceBakedAfterSixUpdates) {
                     << "mip " << mip << " face " << layer;
     }
 }
+
+// The editor's live re-bake: a CMO moved with moveProbe is left out of tracing while its faces
+// are captured again, one per update, and after six updates holds exactly the distances (every
+// level) of a CMO baked at the new place from the start.
+TEST_F(CmoGpu, MovedCmoIsCapturedAgainFromItsNewPlace) {
+    const glm::vec3 target = kCmoCenter + glm::vec3(0.5f, -0.3f, -0.4f);
+    const glm::mat4 world = glm::translate(glm::mat4(1.0f), target);
+    Scene there = boxRoom();
+    there.nodes.back().translation = target;
+    there.nodes.back().world = world;
+    Scene here = boxRoom();
+    render::Renderer ra(*ctx_, here), rb(*ctx_, there);
+    probes::Probes moved(*ctx_, ra), fresh(*ctx_, rb);
+    moved.update();
+    fresh.update();
+    auto traced = [](probes::Probes& p) {
+        FrameGraph fg(FrameGraphConfig{8, 8});
+        return p.addPasses(fg).cmos.count;
+    };
+    ASSERT_TRUE(moved.moveProbe(int(here.nodes.size() - 1), world));
+    EXPECT_FALSE(moved.moveProbe(7, world)) << "node 7 does not exist";
+    for (int frame = 0; frame < 6; ++frame) {
+        EXPECT_TRUE(moved.relocating());
+        EXPECT_EQ(traced(moved), 0u) << "after " << frame << " updates";
+        moved.update();
+    }
+    EXPECT_FALSE(moved.relocating());
+    EXPECT_EQ(traced(moved), 1u);
+    EXPECT_EQ(moved.cmos()[0].center, target);
+    const gpu::Image &a = moved.cmoDistance(), &b = fresh.cmoDistance();
+    for (uint32_t mip : {0u, a.desc().mips - 1})
+        for (uint32_t layer = 0; layer < 6; ++layer)
+            EXPECT_EQ(gpu::readImageRGBA(*ctx_, a.get(), a.desc(), VK_IMAGE_LAYOUT_GENERAL, mip, layer),
+                      gpu::readImageRGBA(*ctx_, b.get(), b.desc(), VK_IMAGE_LAYOUT_GENERAL, mip, layer))
+                << "mip " << mip << " face " << layer;
+}

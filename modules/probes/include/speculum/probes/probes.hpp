@@ -120,6 +120,16 @@ public:
     static Progress terminalProgress();
     // Asks for a bake of one probe (index in blend order) or of all (-1) at the next update().
     void requestUpdate(int probe = -1);
+    // Moves the local probe or CMO of scene node `node` to that node's new world transform
+    // without rebuilding the module (the editor's live re-bake while a probe is dragged): its
+    // faces are captured again one per update(), time-sliced, from the new place. A local
+    // probe's record follows at once (its proxy moves, its cube is the old capture until the
+    // sixth face is prefiltered); a CMO is left out of tracing until its six new faces and
+    // hierarchy are done (its distances are relative to its centre). Moved again before the
+    // sixth face, the cycle goes on and starts once more. False if the node has neither.
+    bool moveProbe(int node, const glm::mat4& world);
+    // Whether a moved probe or CMO is still being captured again.
+    bool relocating() const;
     // Imports the cube array and the records into `graph` (count 0 when `enabled` is false), and
     // the CMO arrays (count 0 when `cmos` is false).
     ProbeSet addPasses(FrameGraph& graph, bool enabled = true, bool cmos = true);
