@@ -75,6 +75,25 @@ EditorApp::~EditorApp() {
     swapchain_.reset();
 }
 
+namespace {
+
+// Grows [lo, hi] by the world-space corners of the bounds of every mesh instance of `node`.
+void growByMeshBounds(const Scene& scene, int node, glm::vec3& lo, glm::vec3& hi) {
+    for (const Instance& inst : scene.instances) {
+        if (inst.node != node) continue;
+        for (const Primitive& p : scene.meshes[size_t(inst.mesh)].primitives)
+            for (int k = 0; k < 8; ++k) {
+                glm::vec3 corner((k & 1) ? p.boundsMax.x : p.boundsMin.x, (k & 2) ? p.boundsMax.y : p.boundsMin.y,
+                                 (k & 4) ? p.boundsMax.z : p.boundsMin.z);
+                glm::vec3 w(inst.world * glm::vec4(corner, 1.0f));
+                lo = glm::min(lo, w);
+                hi = glm::max(hi, w);
+            }
+    }
+}
+
+}  // namespace
+
 void EditorApp::layout() {
     // Fixed panels around the viewport: Debian's ImGui 1.86 has no docking.
     ImGuiIO& io = ImGui::GetIO();
@@ -184,17 +203,7 @@ void EditorApp::frameSelection() {
     glm::vec3 c(n.world[3]);
     glm::vec3 lo = c - 0.5f, hi = c + 0.5f;
     if (n.probe) lo = c - n.probe->extents, hi = c + n.probe->extents;
-    for (const Instance& inst : s.instances) {
-        if (inst.node != selectedNode_) continue;
-        for (const Primitive& p : s.meshes[size_t(inst.mesh)].primitives)
-            for (int k = 0; k < 8; ++k) {
-                glm::vec3 corner((k & 1) ? p.boundsMax.x : p.boundsMin.x, (k & 2) ? p.boundsMax.y : p.boundsMin.y,
-                                 (k & 4) ? p.boundsMax.z : p.boundsMin.z);
-                glm::vec3 w(inst.world * glm::vec4(corner, 1.0f));
-                lo = glm::min(lo, w);
-                hi = glm::max(hi, w);
-            }
-    }
+    growByMeshBounds(s, selectedNode_, lo, hi);
     camera_.frame(lo, hi);
     interacting_ = true;
     lastInteraction_ = Clock::now();
@@ -391,17 +400,7 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
 void EditorApp::scriptClickNode(const std::string& name) {
     int node = nodeNamed(doc_.scene(), name);
     glm::vec3 lo(1e30f), hi(-1e30f);
-    for (const Instance& inst : doc_.scene().instances) {
-        if (inst.node != node) continue;
-        for (const Primitive& p : doc_.scene().meshes[size_t(inst.mesh)].primitives)
-            for (int k = 0; k < 8; ++k) {
-                glm::vec3 c((k & 1) ? p.boundsMax.x : p.boundsMin.x, (k & 2) ? p.boundsMax.y : p.boundsMin.y,
-                            (k & 4) ? p.boundsMax.z : p.boundsMin.z);
-                glm::vec3 w(inst.world * glm::vec4(c, 1.0f));
-                lo = glm::min(lo, w);
-                hi = glm::max(hi, w);
-            }
-    }
+    growByMeshBounds(doc_.scene(), node, lo, hi);
     float x, y;
     if (node < 0 || lo.x > hi.x ||
         !project(camera_.state(uint32_t(view_.w), uint32_t(view_.h)), 0.5f * (lo + hi), x, y))

@@ -100,6 +100,11 @@ int backFacesSeen(const Scene& scene, glm::vec3 center) {
     return int(std::count(back.begin(), back.end(), true));
 }
 
+// The arrays' mip that is a CMO's level 0: the one of its own face size (shaders/common/cmo.h).
+uint32_t baseMip(uint32_t arrayFaceSize, const CmoInfo& info) {
+    return uint32_t(std::countr_zero(arrayFaceSize / info.probe.resolution));
+}
+
 }  // namespace
 
 void Probes::Impl::createCmos() {
@@ -206,7 +211,7 @@ void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
     CmoState& c = *cmo;
     const CmoInfo& info = c.list[index];
     const uint32_t res = info.probe.resolution;
-    const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+    const uint32_t base = baseMip(c.faceSize, info);
     const uint32_t layer = 6 * info.slot + face;
     FrameGraph fg(FrameGraphConfig{res, res});
     CaptureFace cap = addCaptureFace(fg, info.center, face, res);
@@ -266,8 +271,7 @@ void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
 void Probes::Impl::finishCmo(size_t index) {
     CmoState& c = *cmo;
     const CmoInfo& info = c.list[index];
-    const uint32_t res = info.probe.resolution;
-    const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+    const uint32_t base = baseMip(c.faceSize, info);
     const uint32_t layer = 6 * info.slot;
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         for (uint32_t m = base + 1; m < c.mips; ++m) {
@@ -333,7 +337,7 @@ uint32_t Probes::Impl::writeCmoRecords() {
         if (!c.ready[i]) continue;
         const CmoInfo& info = c.list[i];
         const uint32_t res = info.probe.resolution;
-        const uint32_t base = uint32_t(std::countr_zero(c.faceSize / res));
+        const uint32_t base = baseMip(c.faceSize, info);
         out[n++] = {glm::vec4(info.center, float(res)),
                     glm::vec4(float(6 * info.slot), float(base), float(std::bit_width(res)), 2.0f / float(res))};
     }

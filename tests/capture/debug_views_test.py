@@ -43,7 +43,7 @@ CMO_HUES = ((0.2, 0.9, 0.3), (0.3, 0.5, 1.0), (1.0, 0.8, 0.2), (0.9, 0.3, 0.9))
 CMO_MAX_ITERATIONS = 256  # reflections.cmo_max_iterations's default
 
 
-def expected_cmo(x, y, cmo, dim):
+def expected_cmo(x, y, cmo):
     """The cmo view (composite.comp): hue by the CMO that hit, brightness by iterations; red
     where every CMO left the ray unresolved; 0.05 grey where none was traced."""
     its, which, outcome = cmo["R"][y][x], cmo["G"][y][x], cmo["B"][y][x]
@@ -113,7 +113,7 @@ def main():
                     if view == "hiz":
                         want = expected_hiz(x, y, hiz)
                     elif view == "cmo" and reflective[y][x]:
-                        want = expected_cmo(x, y, cmo, lum * 0.15)
+                        want = expected_cmo(x, y, cmo)
                     elif reflective[y][x] or view == "reflection":
                         want = expected_views(x, y, hit, method, reflection)[view]
                     else:
