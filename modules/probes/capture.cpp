@@ -138,6 +138,31 @@ void Probes::Impl::prefilter(size_t index) {
     writeRecords();
 }
 
+void Probes::Impl::prefilterStep(size_t index, size_t step) {
+    const gpu::Image& source = radiance[index];
+    auto start = std::chrono::steady_clock::now();
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        if (step == 0) filter.recordBoxChain(cmd, source, sampler);
+        else
+            gpu::transition(cmd, source.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
+        // The slices of one step write disjoint texels and only read the source: no barrier between.
+        for (const render::PrefilterSlice& slice : steps[step])
+            filter.recordPrefilterSlice(cmd, source, sampler, targetViews[index][slice.mip].get(), faceSize, mips,
+                                        slice, uint32_t(settings.prefilterSamples));
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
+        gpu::transition(cmd, source.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+    });
+    ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (step + 1 < steps.size()) return;
+    ready[index] = true;
+    writeRecords();
+}
+
 }  // namespace speculum::probes
 
 namespace speculum::probes {

@@ -45,7 +45,12 @@ struct Probes::Impl {
     bool baked = false;  // the array holds a bake: captures see it (else only the sky)
     std::vector<bool> pending;
     std::vector<bool> ready;  // prefiltered at least once: its record is in `records`
-    size_t slice = 0;    // next time-sliced (probe, face): probe = slice / 6 over time-sliced probes
+    // Time-sliced cycle: the time-sliced probes in turn, each six captures (steps 0-5) and then
+    // its prefilter's steps (6 ...), one step per update.
+    std::vector<render::PrefilterStep> steps;  // the prefilter of one cube of the array, sliced
+    size_t slicedProbe = 0;
+    size_t slicedStep = 0;
+    size_t timeSlicedCycle() const { return 6 + steps.size(); }
     size_t faces = 0;
     double ms = 0.0;
 
@@ -76,6 +81,9 @@ struct Probes::Impl {
     void captureFace(size_t index, uint32_t face);
     // Box chain of the probe's radiance cube, then the GGX prefilter into its cube of the array.
     void prefilter(size_t index);
+    // Step `step` of the sliced prefilter of probe `index` (the first also box-filters its
+    // radiance cube; after the last, the probe is ready).
+    void prefilterStep(size_t index, size_t step);
     // Writes the ready probes' records, in blend order, and returns how many.
     uint32_t writeRecords();
     uint32_t readyCount() const;

@@ -151,6 +151,8 @@ void Probes::Impl::allocate() {
         targetViews.push_back(std::move(views));
         probes[i].gpu.params = glm::vec4(float(i), float(mips - 1), 0.0f, 0.0f);
     }
+    steps = render::planPrefilterSteps(faceSize, mips, 0, uint32_t(settings.prefilterSamples),
+                                       uint64_t(settings.prefilterSlice) * 1024);
     pending.assign(probes.size(), false);
     ready.assign(probes.size(), false);
     relocating.assign(probes.size(), -1);
@@ -193,6 +195,7 @@ const std::vector<CmoInfo>& Probes::cmos() const { return impl_->cmo->list; }
 const gpu::Image& Probes::cmoDistance() const { return impl_->cmo->distance; }
 const gpu::Image& Probes::cmoRadiance() const { return impl_->cmo->radiance; }
 const gpu::Image& Probes::cubes() const { return impl_->cubes; }
+size_t Probes::timeSlicedCycle() const { return impl_->timeSlicedCycle(); }
 size_t Probes::facesCaptured() const { return impl_->faces; }
 double Probes::captureMs() const { return impl_->ms; }
 size_t Probes::cmoFacesCaptured() const { return impl_->cmo->faces; }
@@ -239,11 +242,13 @@ void Probes::update(const Progress& progress) {
     }
     for (size_t i : full) m.pending[i] = false;
     if (!sliced.empty()) {
-        size_t probe = sliced[(m.slice / 6) % sliced.size()];
-        uint32_t face = uint32_t(m.slice % 6);
-        m.captureFace(probe, face);
-        if (face == 5) m.prefilter(probe);
-        ++m.slice;
+        size_t probe = sliced[m.slicedProbe % sliced.size()];
+        if (m.slicedStep < 6) m.captureFace(probe, uint32_t(m.slicedStep));
+        else m.prefilterStep(probe, m.slicedStep - 6);
+        if (++m.slicedStep == m.timeSlicedCycle()) {
+            m.slicedStep = 0;
+            ++m.slicedProbe;
+        }
     }
     m.baked = m.baked || !full.empty();
     m.stepRelocations();

@@ -18,6 +18,8 @@ layout(push_constant) uniform Push {
     float alpha;       // GGX alpha = roughness^2
     uint sourceSize;   // face size of radiance mip 0
     float sourceMips;  // radiance mip count
+    uint firstRow;     // a slice of the mip (CubeFilter::recordPrefilterSlice): rows and faces
+    uint firstFace;    // from these on
 } pc;
 
 // Every texel uses the same sample set in its own tangent frame, so the workgroup computes each
@@ -39,7 +41,7 @@ vec4 prefilterSample(uint i) {
 }
 
 void main() {
-    uvec3 texel = gl_GlobalInvocationID;
+    uvec3 texel = gl_GlobalInvocationID + uvec3(0u, pc.firstRow, pc.firstFace);
     bool inside = texel.x < pc.size && texel.y < pc.size;  // no early return: barriers follow
     uvec3 clamped = min(texel, uvec3(pc.size - 1u, pc.size - 1u, 5u));
     mat3 frame = tangentFrame(cubeTexelDirection(clamped, pc.size));

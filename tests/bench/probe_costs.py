@@ -4,7 +4,7 @@
 
     probe_costs.py lookup   [--rounds 3]   probes on/off, alternating: reflections.resolve medians
     probe_costs.py bake     [--rounds 2]   seconds per face, per prefilter, per probe bake
-    probe_costs.py sliced   [--rounds 3]   time-sliced update against once: wall time per frame
+    probe_costs.py sliced   [--rounds 3]   time-sliced update against once: wall time of every frame
     probe_costs.py refnoise                two 32-spp references per suite view, compared
 
 Common options: --build DIR (default build), --out DIR (default /tmp/probe_costs). Timings are
@@ -14,10 +14,12 @@ speculum-capture's timings.json counts only the main frame's passes and the tool
 Probes::captureMs(), so bake and time-sliced costs come from its progress lines on stderr, time
 stamped as they arrive: "probe bake (faces): k/N" (one line per face; the line after a probe's
 sixth face also holds its prefilter) and "capture: i/N" (one line per frame when N <= 10, every
-ceil(N/10)-th frame otherwise).
+ceil(N/10)-th frame otherwise; on a terminal every frame, which `sliced` gives it with a pty).
 """
 import argparse
 import json
+import os
+import pty
 import re
 import statistics
 import subprocess
@@ -35,11 +37,29 @@ def load():
     return float(open("/proc/loadavg").read().split()[0])
 
 
-def run_stamped(cmd):
-    """Runs cmd; returns (wall seconds, [(seconds since start, stderr line)])."""
+def run_stamped(cmd, tty=False):
+    """Runs cmd; returns (wall seconds, [(seconds since start, stderr line)]). With tty, stderr is
+    a pseudo-terminal, where app::progress prints every step (a '\r' line) instead of every tenth."""
     t0 = time.monotonic()
-    p = subprocess.Popen(cmd, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True, bufsize=1)
-    lines = [(time.monotonic() - t0, line.rstrip()) for line in p.stderr]
+    if tty:
+        master, slave = pty.openpty()
+        p = subprocess.Popen(cmd, stderr=slave, stdout=subprocess.DEVNULL)
+        os.close(slave)
+        lines, pending = [], b""
+        while True:
+            try:
+                chunk = os.read(master, 4096)
+            except OSError:  # EIO: the child closed the terminal
+                break
+            if not chunk:
+                break
+            pending += chunk
+            *done, pending = re.split(rb"[\r\n]", pending)
+            lines += [(time.monotonic() - t0, d.decode(errors="replace").strip()) for d in done if d.strip()]
+        os.close(master)
+    else:
+        p = subprocess.Popen(cmd, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True, bufsize=1)
+        lines = [(time.monotonic() - t0, line.rstrip()) for line in p.stderr]
     if p.wait() != 0:
         sys.exit(f"probe_costs: failed ({p.returncode}): {' '.join(map(str, cmd))}\n" + "\n".join(l for _, l in lines[-10:]))
     return time.monotonic() - t0, lines
@@ -124,26 +144,31 @@ def bake(args, capture, out):
 
 
 def sliced(args, capture, out):
+    """Wall time of every frame (a pseudo-terminal makes the capture print each one), once against
+    time_sliced: the mean is the cost a cycle spreads over its frames, the max the worst frame."""
     rows = []
     for rep in range(args.rounds):
         for res in (128, 256):
             for mode in ("once", "time_sliced"):
                 scene = scene_copy(out, "closed_room", resolution=res, update=mode)
                 _, lines = run_stamped([capture, "--scene", scene, "--camera", "main", "--size", args.size, "--warmup", "3",
-                                        "--frames", str(args.frames), "--aov", "reflection", "--out", out / "sliced"])
+                                        "--frames", str(args.frames), "--aov", "reflection", "--out", out / "sliced"],
+                                       tty=True)
                 c = progress(lines, "capture")
                 per = [(b[0] - a[0]) / (b[1] - a[1]) for a, b in zip(c, c[1:])]
-                rows.append({"res": res, "mode": mode, "rep": rep, "mean_ms": 1000 * sum(per) / len(per),
-                             "median_ms": 1000 * statistics.median(per), "max_ms": 1000 * max(per), "load": load()})
+                rows.append({"res": res, "mode": mode, "rep": rep, "frames": len(per),
+                             "mean_ms": 1000 * sum(per) / len(per), "median_ms": 1000 * statistics.median(per),
+                             "p90_ms": 1000 * sorted(per)[int(0.9 * (len(per) - 1))], "max_ms": 1000 * max(per),
+                             "load": load()})
                 print(rows[-1], flush=True)
-    print(f"\nwall ms per frame at {args.size} (medians over rounds; 'max' is the frame that prefilters)")
+    print(f"\nwall ms per frame at {args.size} (medians over rounds of each run's mean, p90 and max)")
     for res in (128, 256):
         m = {mode: [r for r in rows if r["res"] == res and r["mode"] == mode] for mode in ("once", "time_sliced")}
         med = lambda mode, k: statistics.median(r[k] for r in m[mode])
         print(f"{res}^2: once {med('once', 'mean_ms'):.1f}, time-sliced {med('time_sliced', 'mean_ms'):.1f} "
               f"(+{med('time_sliced', 'mean_ms') - med('once', 'mean_ms'):.1f} on average, "
-              f"+{med('time_sliced', 'median_ms') - med('once', 'median_ms'):.1f} without prefilter, "
-              f"max {med('time_sliced', 'max_ms'):.0f})")
+              f"+{med('time_sliced', 'p90_ms') - med('once', 'p90_ms'):.1f} at p90, "
+              f"+{med('time_sliced', 'max_ms') - med('once', 'median_ms'):.1f} on the worst frame)")
     return rows
 
 
@@ -179,7 +204,7 @@ def main():
     p.add_argument("--out", default="/tmp/probe_costs")
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--size", default=None, help="lookup: 960x540; sliced: 64x36 (small, so that the slice dominates)")
-    p.add_argument("--frames", type=int, default=24, help="sliced: timed frames")
+    p.add_argument("--frames", type=int, default=48, help="sliced: timed frames (two 256^2 cycles)")
     p.add_argument("--spp", type=int, default=32, help="refnoise: samples per pixel")
     p.add_argument("--refsize", default="320x180", help="refnoise: size")
     args = p.parse_args()

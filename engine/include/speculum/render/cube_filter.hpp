@@ -7,8 +7,25 @@
 #include "speculum/gpu/resources.hpp"
 
 #include <span>
+#include <vector>
 
 namespace speculum::render {
+
+// One piece of a prefilter: rows [firstRow, firstRow + rows) of faces [firstFace, firstFace +
+// faces) of target mip `mip`. A whole mip is {mip, 0, 6, 0, its size}.
+struct PrefilterSlice {
+    uint32_t mip = 0, firstFace = 0, faces = 6, firstRow = 0, rows = 0;
+    uint64_t work = 0;  // texel-samples: the cost unit of the budget below
+};
+
+// Cuts the prefilter of target mips [firstMip, mips) of a cube whose mip 0 face is `size` into
+// steps of about `budget` texel-samples each (mip 0 takes one sample a texel, the rest
+// `samples`): a mip that fits is one slice, a larger one goes in rows of one face, eight rows (a
+// workgroup) at least, and consecutive slices share a step while their sum fits. Pure CPU: a
+// time-sliced probe records one step per frame.
+using PrefilterStep = std::vector<PrefilterSlice>;
+std::vector<PrefilterStep> planPrefilterSteps(uint32_t size, uint32_t mips, uint32_t firstMip, uint32_t samples,
+                                              uint64_t budget);
 
 class CubeFilter {
 public:
@@ -27,6 +44,10 @@ public:
     void recordPrefilter(VkCommandBuffer cmd, const gpu::Image& radiance, VkSampler sampler,
                          std::span<const VkImageView> mipViews, uint32_t size, uint32_t firstMip,
                          uint32_t samples) const;
+    // One slice of that prefilter (planPrefilterSlices); `mips` is the target's mip count.
+    void recordPrefilterSlice(VkCommandBuffer cmd, const gpu::Image& radiance, VkSampler sampler,
+                              VkImageView mipView, uint32_t size, uint32_t mips, const PrefilterSlice& slice,
+                              uint32_t samples) const;
 
 private:
     const gpu::Context& ctx_;

@@ -36,6 +36,7 @@ struct ProbeSettings {
 
     int bounces;           // bakes of every probe at start, each seeing the previous one
     int prefilterSamples;  // GGX samples per texel of the rough mips
+    int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     DebugView debugView;
 
 private:
@@ -112,10 +113,14 @@ public:
     // Captures what the update modes ask for this frame, in frame graphs of its own, submitted
     // and finished before it returns: call it before the frame's graph is built. `once` and
     // `on_demand` probes bake `bounces` times on the first call; `every_frame` probes capture all
-    // six faces every call; `time_sliced` probes one face per call, in turn, and are
-    // prefiltered after their sixth face. `progress` (when set) hears about each face baked.
+    // six faces every call; `time_sliced` probes one face per call, in turn, then their
+    // prefilter in steps of `probes.prefilter_slice` (render::planPrefilterSteps), one a call;
+    // the array's cube changes mip by mip as the steps land (the old bake until then). `progress` (when set) hears about each face baked.
     using Progress = std::function<void(size_t done, size_t total)>;
     void update(const Progress& progress = {});
+    // Updates a time-sliced probe takes from its first face to its prefiltered cube: six
+    // captures and the prefilter's steps.
+    size_t timeSlicedCycle() const;
     // A Progress that prints "probe bake (faces): done/total" on the terminal.
     static Progress terminalProgress();
     // Asks for a bake of one probe (index in blend order) or of all (-1) at the next update().
