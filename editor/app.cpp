@@ -459,8 +459,9 @@ void EditorApp::bakeWithProgress() {
     });
 }
 
-// The editor's passes after the modules' tonemap: the viewport's image blitted into its
-// rectangle of the swapchain image, the UI over it, and, when asked, the window read back.
+// The editor's passes after the modules' tonemap: the cached panels copied into the swapchain
+// image, the viewport's image blitted into its rectangle, what lies over it (overlays, menus),
+// and, when asked, the window read back.
 void EditorApp::addPresentPasses(FrameGraph& g, TextureHandle color, const gpu::Buffer* windowShot) {
     Rect rect = view_;
     VkExtent2D extent = swapchain_->extent();
@@ -469,41 +470,14 @@ void EditorApp::addPresentPasses(FrameGraph& g, TextureHandle color, const gpu::
         g.importTexture("editor.swapchain", desc,
                         {swapchain_->image(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                          VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
-    struct Data {
-        TextureHandle src, dst;
-    };
-    const Data& d = g.addPass<Data>(
-        "editor.viewport", PassType::Transfer,
-        [&](PassBuilder& b, Data& data) {
-            data.src = b.read(color, TextureUsage::TransferSrc);
-            data.dst = b.write(target, TextureUsage::TransferDst);
-        },
-        [rect, extent](const Data& data, PassContext& pc) {
-            VkClearColorValue grey{{0.1f, 0.1f, 0.11f, 1.0f}};
-            VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-            vkCmdClearColorImage(pc.cmd(), pc.image(data.dst), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1, &all);
-            // The blit writes the same image as the clear.
-            VkMemoryBarrier2 mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-            mb.srcStageMask = mb.dstStageMask = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
-            mb.srcAccessMask = mb.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-            VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-            dep.memoryBarrierCount = 1;
-            dep.pMemoryBarriers = &mb;
-            vkCmdPipelineBarrier2(pc.cmd(), &dep);
-            VkExtent2D s = pc.extent(data.src);
-            VkImageBlit blit{};
-            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            blit.srcOffsets[1] = {int32_t(s.width), int32_t(s.height), 1};
-            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            int32_t x0 = std::clamp(int32_t(rect.x), 0, int32_t(extent.width) - 1);
-            int32_t y0 = std::clamp(int32_t(rect.y), 0, int32_t(extent.height) - 1);
-            blit.dstOffsets[0] = {x0, y0, 0};
-            blit.dstOffsets[1] = {std::clamp(int32_t(rect.x + rect.w), x0 + 1, int32_t(extent.width)),
-                                  std::clamp(int32_t(rect.y + rect.h), y0 + 1, int32_t(extent.height)), 1};
-            vkCmdBlitImage(pc.cmd(), pc.image(data.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.dst),
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-        });
-    TextureHandle shown = ui_->addPass(g, d.dst);
+    // Whole pixels of the window, as the blit it replaces placed the viewport.
+    const float x0 = float(std::clamp(int32_t(rect.x), 0, int32_t(extent.width) - 1));
+    const float y0 = float(std::clamp(int32_t(rect.y), 0, int32_t(extent.height) - 1));
+    const float viewRect[4] = {x0, y0,
+                               float(std::clamp(int32_t(rect.x + rect.w), int32_t(x0) + 1, int32_t(extent.width))) - x0,
+                               float(std::clamp(int32_t(rect.y + rect.h), int32_t(y0) + 1, int32_t(extent.height))) - y0};
+    TextureHandle panels = ui_->addPanels(g, target, extent, viewRect);
+    TextureHandle shown = ui_->addOverlays(g, panels, color, viewRect);
     if (windowShot) {
         // The whole window as presented (panels included), for the README's picture.
         struct Copy {
@@ -577,7 +551,7 @@ void EditorApp::renderFrame() {
     gpuMs_ = result.frameMs;
     uiMs_ = 0.0;
     for (const app::PassTime& p : result.passes)
-        if (p.name == "editor.ui" || p.name == "editor.viewport") uiMs_ += p.ms;
+        if (p.name.rfind("editor.ui", 0) == 0) uiMs_ += p.ms;
     if (pendingPick_) {
         pick_ = viewport_->lastPick();
         select(pick_.node);
@@ -629,12 +603,35 @@ void EditorApp::measureStep() {
         interacting_ = true;
         lastInteraction_ = Clock::now();
     }
+    // The previous frame's UI costs (this one's are not known yet) and its wall time, per frame:
+    // medians, since a frame of a loaded machine now and then waits for something else.
+    auto now = Clock::now();
+    if (measureFrames_ > 0) {
+        measureUi_.push_back(uiMs_ + uiCpuMs_);
+        measureWall_.push_back(std::chrono::duration<double, std::milli>(now - measureLast_).count());
+    } else {
+        measureUi_.clear();
+        measureWall_.clear();
+        measureCached_ = ui_->cachedFrames();
+    }
+    measureLast_ = now;
     if (--measureLeft_ == 0) {
         double s = std::chrono::duration<double>(Clock::now() - measureStart_).count();
+        auto median = [](std::vector<double> v) {
+            if (v.empty()) return 0.0;
+            std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+            return v[v.size() / 2];
+        };
+        double ui = median(measureUi_), wall = median(measureWall_), uiMean = 0.0;
+        for (double u : measureUi_) uiMean += u / double(std::max<size_t>(1, measureUi_.size()));
         std::printf(
             "speculum-editor: measure %s: %d frames in %.2f s, %.2f fps, viewport %ux%u, GPU %.1f ms, UI %.2f ms\n",
             measureInteract_ ? "interacting" : "still", measureFrames_, s, measureFrames_ / s,
             uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
+        std::printf("speculum-editor:   UI (editor.ui* passes + ImGui's CPU) per frame: median %.2f ms = %.1f%% of "
+                    "the median %.1f ms frame (mean %.2f ms); panels from the cache on %zu of %d frames\n",
+                    ui, 100.0 * ui / std::max(wall, 1e-9), wall, uiMean, ui_->cachedFrames() - measureCached_,
+                    measureFrames_);
         for (const app::PassTime& p : passTimes_)
             if (p.name.rfind("editor.", 0) == 0)
                 std::printf("speculum-editor:   %-32s %.2f ms\n", p.name.c_str(), p.ms);
@@ -659,9 +656,11 @@ int EditorApp::loop() {
         last = now;
         ui_->beginInput();
         const nlohmann::json* action = script_.step(ImGui::GetIO());
+        auto uiStart = Clock::now();
         ImGui::NewFrame();
         layout();
         drawOverlays(camera_.state(uint32_t(view_.w), uint32_t(view_.h)));
+        double uiCpu = std::chrono::duration<double, std::milli>(Clock::now() - uiStart).count();
         shortcuts();
         viewportInput(dt);
         if (action) runScriptAction(*action);
@@ -672,7 +671,9 @@ int EditorApp::loop() {
             screenshotPath_ = v.path;
             debugViewQueue_.erase(debugViewQueue_.begin());
         }
+        uiStart = Clock::now();
         ImGui::Render();
+        uiCpuMs_ = uiCpu + std::chrono::duration<double, std::milli>(Clock::now() - uiStart).count();
         try {
             renderFrame();
         } catch (const Error& e) {

@@ -137,7 +137,12 @@ private:
     std::map<std::string, double> editing_;                   // settings previewed during a drag: name -> value before
     nlohmann::json graph_;  // the frame graph of a recent frame (refreshed each second)
     std::vector<app::PassTime> passTimes_;
-    double gpuMs_ = 0.0, uiMs_ = 0.0;
+    double gpuMs_ = 0.0, uiMs_ = 0.0, uiCpuMs_ = 0.0;
+    // What the frame-graph panel shows, refreshed once a second: numbers that change every frame
+    // would redraw the cached panels every frame (ui_layer.hpp).
+    std::vector<app::PassTime> shownPasses_;
+    double shownGpuMs_ = 0.0, shownUiMs_ = 0.0;
+    std::chrono::steady_clock::time_point shownAt_{};
     std::chrono::steady_clock::time_point lastAutosave_;
     // --script each_debug_view: one frame per view, with a viewport picture ("" none).
     struct DebugViewShot {
@@ -150,6 +155,9 @@ private:
     int measureLeft_ = 0;
     bool measureInteract_ = false;
     int measureFrames_ = 0;
+    std::vector<double> measureUi_, measureWall_;  // per frame: UI ms (GPU + CPU), wall ms
+    std::chrono::steady_clock::time_point measureLast_{};
+    size_t measureCached_ = 0;
     std::chrono::steady_clock::time_point measureStart_;
 };
 

@@ -235,10 +235,16 @@ void EditorApp::drawFrameGraph() {
         graph_ = nlohmann::json::parse(viewport_->graphJson(), nullptr, false);
         lastDump = std::chrono::steady_clock::now();
     }
+    if (std::chrono::steady_clock::now() - shownAt_ > std::chrono::seconds(1)) {
+        shownAt_ = std::chrono::steady_clock::now();
+        shownPasses_ = passTimes_;
+        shownGpuMs_ = gpuMs_;
+        shownUiMs_ = uiMs_;
+    }
     double maxMs = 0.0;
-    for (const app::PassTime& p : passTimes_) maxMs = std::max(maxMs, p.ms);
-    ImGui::Text("GPU %.1f ms (UI and viewport blit %.2f ms, %.1f%%)", gpuMs_, uiMs_,
-                gpuMs_ > 0 ? 100.0 * uiMs_ / gpuMs_ : 0.0);
+    for (const app::PassTime& p : shownPasses_) maxMs = std::max(maxMs, p.ms);
+    ImGui::Text("GPU %.1f ms (UI and viewport blit %.2f ms, %.1f%%)", shownGpuMs_, shownUiMs_,
+                shownGpuMs_ > 0 ? 100.0 * shownUiMs_ / shownGpuMs_ : 0.0);
     if (graph_.is_object() && graph_.contains("memory")) {
         double with = graph_["memory"].value("transientWithAliasing", 0.0) / 1048576.0;
         double without = graph_["memory"].value("transientWithoutAliasing", 0.0) / 1048576.0;
@@ -247,7 +253,7 @@ void EditorApp::drawFrameGraph() {
     }
     ImGui::Columns(2, "fg", true);
     ImGui::SetColumnWidth(0, std::max(200.0f, ImGui::GetWindowWidth() * 0.55f));
-    for (const app::PassTime& p : passTimes_) {
+    for (const app::PassTime& p : shownPasses_) {
         char label[64];
         std::snprintf(label, sizeof label, "%.2f ms", p.ms);
         ImGui::ProgressBar(maxMs > 0 ? float(p.ms / maxMs) : 0.0f, ImVec2(120, 0), label);

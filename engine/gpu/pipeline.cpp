@@ -162,7 +162,8 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     rendering.depthAttachmentFormat = d.depthFormat;
 
     VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    info.pNext = &rendering;
+    info.pNext = d.renderPass ? nullptr : &rendering;
+    info.renderPass = d.renderPass;
     info.stageCount = static_cast<uint32_t>(stages.size());
     info.pStages = stages.data();
     info.pVertexInputState = &vi;

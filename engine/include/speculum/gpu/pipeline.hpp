@@ -71,6 +71,9 @@ struct GraphicsPipelineDesc {
     // Values of the fragment shader's specialization constants (constant_id 0, 1, ...).
     std::vector<uint32_t> fragmentConstants;
     std::string name;
+    // A render pass (subpass 0) for a pipeline drawn inside one (the editor's ImGui pass); null:
+    // dynamic rendering with colorFormats and depthFormat.
+    VkRenderPass renderPass = VK_NULL_HANDLE;
 };
 Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
 
