@@ -3,7 +3,9 @@
 // and temp-file-then-rename writes.
 #include "gltf_document.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <fstream>
 
 namespace speculum::gltf {
@@ -54,6 +56,21 @@ void writeAtomically(const std::filesystem::path& path, const void* data, size_t
         std::filesystem::remove(tmp, ec);
         fileError(path, "rename from " + tmp.string() + " failed");
     }
+}
+
+bool sameContent(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != bytes.size() || ec)
+        return false;
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> chunk(1 << 20);
+    for (size_t at = 0; at < bytes.size();) {
+        size_t n = std::min(chunk.size(), bytes.size() - at);
+        if (!in.read(chunk.data(), std::streamsize(n)) || std::memcmp(chunk.data(), bytes.data() + at, n) != 0)
+            return false;
+        at += n;
+    }
+    return true;
 }
 
 bool escapesDirectory(const std::filesystem::path& rel) {
@@ -127,7 +144,11 @@ void copyExternalImages(json& doc, const Scene& scene, const std::filesystem::pa
 void writeOutput(const json& doc, const std::vector<uint8_t>& bin,
                  const std::filesystem::path& path) {
     if (path.extension() == ".gltf") {
-        if (!bin.empty()) writeAtomically(binPathFor(path), bin.data(), bin.size());
+        // A .gltf and its .bin are two files, and two renames are not one atomic step: killed
+        // between them, the old document would sit beside the new buffer. The editor never
+        // changes geometry, so the buffer on disk is nearly always byte-for-byte the one to
+        // write: then it is left alone and the save is the document's one rename.
+        if (!bin.empty() && !sameContent(binPathFor(path), bin)) writeAtomically(binPathFor(path), bin.data(), bin.size());
         std::string text = doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
         writeAtomically(path, text.data(), text.size());
         return;

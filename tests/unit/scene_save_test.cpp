@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 using namespace speculum;
 using namespace speculum::scenetest;
 
@@ -154,6 +156,37 @@ TEST(SceneSave, GltfRoundTripKeepsSceneAndUnknowns) {
     db["buffers"][0].erase("uri");
     dc["buffers"][0].erase("uri");
     EXPECT_EQ(db, dc);
+}
+
+// Saving a .gltf over itself with the same geometry leaves its .bin alone (the same file, not
+// replaced by a rename), so the save is one atomic rename of the document; different bytes are
+// written.
+TEST(SceneSave, GltfSaveOverItselfRewritesTheBinOnlyWhenItChanges) {
+    auto dir = tmpDir("save_bin_kept");
+    Scene a = loadScene(writeGltf(dir / "rich.gltf", richScene(), "rich.bin"));
+    std::filesystem::create_directories(dir / "out");
+    const auto path = dir / "out" / "scene.gltf", bin = dir / "out" / "scene.bin";
+    saveScene(a, path);
+    struct stat before {};
+    ASSERT_EQ(stat(bin.c_str(), &before), 0);
+    Scene b = loadScene(path);
+    b.nodes[0].name = "renamed";  // an edit of the document only
+    saveScene(b, path);
+    struct stat after {};
+    ASSERT_EQ(stat(bin.c_str(), &after), 0);
+    EXPECT_EQ(before.st_ino, after.st_ino) << "the unchanged .bin was written again";
+    EXPECT_EQ(loadScene(path).nodes[0].name, "renamed");
+    EXPECT_TRUE(noTempFiles(dir / "out"));
+    // A different buffer is written.
+    Scene c = loadScene(path);
+    ASSERT_FALSE(c.buffers.empty());
+    ASSERT_FALSE(c.buffers[0].empty());
+    c.buffers[0][0] ^= 0xff;
+    saveScene(c, path);
+    struct stat changed {};
+    ASSERT_EQ(stat(bin.c_str(), &changed), 0);
+    EXPECT_NE(before.st_ino, changed.st_ino);
+    EXPECT_EQ(loadScene(path).buffers[0][0], c.buffers[0][0]);
 }
 
 TEST(SceneSave, GlbRoundTripBothWays) {
