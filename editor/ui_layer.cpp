@@ -136,7 +136,6 @@ UiLayer::UiLayer(const gpu::Context& ctx, GLFWwindow* window, VkFormat format, u
     gpu::GraphicsPipelineDesc vp;
     vp.vertexShader = "engine/fullscreen.vert";
     vp.fragmentShader = "editor/viewport.frag";
-    vp.bindings = {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}};
     vp.pushConstantBytes = sizeof(float) * 4;
     vp.colorFormats = {format};
     vp.depthTest = vp.depthWrite = false;
@@ -321,7 +320,7 @@ TextureHandle UiLayer::addOverlays(FrameGraph& graph, TextureHandle target, Text
                            uint32_t(std::clamp(int32_t(std::ceil(y1)), ay + 1, int32_t(e.height)) - ay)}};
             drawLists(pc.cmd(), renderPass_, framebuffers_.back(), area, live_, nullptr, [&](VkCommandBuffer cmd) {
                 viewportPipeline_.bind(cmd);
-                gpu::DescriptorWriter().sampled(0, pc.view(data.view), linear_).push(ctx_, cmd, viewportPipeline_);
+                gpu::DescriptorWriter().sampled("image", pc.view(data.view), linear_).push(ctx_, cmd, viewportPipeline_);
                 VkViewport v{rect[0], rect[1], rect[2], rect[3], 0.0f, 1.0f};
                 VkRect2D scissor{{int32_t(rect[0]), int32_t(rect[1])}, {uint32_t(rect[2]), uint32_t(rect[3])}};
                 vkCmdSetViewport(cmd, 0, 1, &v);

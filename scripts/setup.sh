@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
-  glslang-tools spirv-tools
+  glslang-tools spirv-tools libspirv-cross-c-shared-dev
   libglm-dev libglfw3-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libimgui-dev libopenimageio-dev openimageio-tools libcli11-dev
   libgtest-dev libgmock-dev

@@ -3,10 +3,12 @@
 #include "speculum/core.hpp"
 #include "speculum/scene.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 
 namespace speculum::gpu {
 
@@ -16,24 +18,40 @@ std::string shaderDir() {
     return SPECULUM_SHADER_DIR;
 }
 
-Unique<VkShaderModule> loadShader(const Context& ctx, const std::string& name) {
+std::vector<uint32_t> loadSpirv(const std::string& name) {
     std::string path = shaderDir() + "/" + name + ".spv";
     std::ifstream file(path, std::ios::binary);
     if (!file)
         throw Error(ExitCode::Failure, "shader " + path + " is missing: build the project (cmake --build build)");
-    std::vector<char> code((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    std::vector<char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    if (bytes.empty() || bytes.size() % sizeof(uint32_t))
+        throw Error(ExitCode::Failure, "shader " + path + " is not SPIR-V (size " + std::to_string(bytes.size()) + ")");
+    std::vector<uint32_t> words(bytes.size() / sizeof(uint32_t));
+    std::copy(bytes.begin(), bytes.end(), reinterpret_cast<char*>(words.data()));
+    return words;
+}
+
+namespace {
+
+Unique<VkShaderModule> createModule(const Context& ctx, const std::vector<uint32_t>& words, const std::string& name) {
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size();
-    info.pCode = reinterpret_cast<const uint32_t*>(code.data());
+    info.codeSize = words.size() * sizeof(uint32_t);
+    info.pCode = words.data();
     VkShaderModule module;
     check(vkCreateShaderModule(ctx.device(), &info, nullptr, &module), ("vkCreateShaderModule " + name).c_str());
     return {ctx.device(), module, vkDestroyShaderModule};
 }
 
-PipelineLayout::PipelineLayout(const Context& ctx, const std::vector<Binding>& bindings, uint32_t pushConstantBytes,
-                               VkShaderStageFlags pushStages) {
+}  // namespace
+
+Unique<VkShaderModule> loadShader(const Context& ctx, const std::string& name) {
+    return createModule(ctx, loadSpirv(name), name);
+}
+
+PipelineLayout::PipelineLayout(const Context& ctx, const std::vector<ReflectedBinding>& bindings,
+                               uint32_t pushConstantBytes, VkShaderStageFlags pushStages) {
     std::vector<VkDescriptorSetLayoutBinding> b;
-    for (const Binding& x : bindings) b.push_back({x.binding, x.type, x.count, x.stages, nullptr});
+    for (const ReflectedBinding& x : bindings) b.push_back({x.binding, x.type, x.count, x.stages, nullptr});
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     setInfo.bindingCount = static_cast<uint32_t>(b.size());
@@ -73,11 +91,12 @@ struct Specialization {
 
 }  // namespace
 
-Pipeline createComputePipeline(const Context& ctx, const std::string& shader, const std::vector<Binding>& bindings,
-                               uint32_t pushConstantBytes, const std::string& name,
-                               const std::vector<uint32_t>& constants) {
+Pipeline createComputePipeline(const Context& ctx, const std::string& shader, uint32_t pushConstantBytes,
+                               const std::string& name, const std::vector<uint32_t>& constants) {
+    std::vector<uint32_t> words = loadSpirv(shader);
+    std::vector<ReflectedBinding> bindings = reflectBindings(words, VK_SHADER_STAGE_COMPUTE_BIT, shader);
     PipelineLayout layout(ctx, bindings, pushConstantBytes, VK_SHADER_STAGE_COMPUTE_BIT);
-    Unique<VkShaderModule> module = loadShader(ctx, shader);
+    Unique<VkShaderModule> module = createModule(ctx, words, shader);
     Specialization spec(constants);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -90,12 +109,29 @@ Pipeline createComputePipeline(const Context& ctx, const std::string& shader, co
     check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p),
           ("vkCreateComputePipelines " + name).c_str());
     ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(p), name);
-    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline), std::move(layout), VK_PIPELINE_BIND_POINT_COMPUTE};
+    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline),
+            std::move(layout),
+            VK_PIPELINE_BIND_POINT_COMPUTE,
+            std::move(bindings),
+            shader,
+            name};
 }
 
 Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& d) {
-    PipelineLayout layout(ctx, d.bindings, d.pushConstantBytes, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
-    Unique<VkShaderModule> vs = loadShader(ctx, d.vertexShader);
+    std::vector<uint32_t> vsWords = loadSpirv(d.vertexShader);
+    std::vector<ReflectedBinding> bindings = reflectBindings(vsWords, VK_SHADER_STAGE_VERTEX_BIT, d.vertexShader);
+    std::string shaders = d.vertexShader;
+    std::vector<uint32_t> fsWords;
+    if (!d.fragmentShader.empty()) {
+        fsWords = loadSpirv(d.fragmentShader);
+        bindings =
+            mergeBindings(bindings, d.vertexShader,
+                          reflectBindings(fsWords, VK_SHADER_STAGE_FRAGMENT_BIT, d.fragmentShader), d.fragmentShader);
+        shaders += " + " + d.fragmentShader;
+    }
+    PipelineLayout layout(ctx, bindings, d.pushConstantBytes,
+                          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    Unique<VkShaderModule> vs = createModule(ctx, vsWords, d.vertexShader);
     Unique<VkShaderModule> fs;
     std::vector<VkPipelineShaderStageCreateInfo> stages(1, {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO});
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -103,7 +139,7 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     stages[0].pName = "main";
     Specialization spec(d.fragmentConstants);
     if (!d.fragmentShader.empty()) {
-        fs = loadShader(ctx, d.fragmentShader);
+        fs = createModule(ctx, fsWords, d.fragmentShader);
         VkPipelineShaderStageCreateInfo f{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         f.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
         f.module = fs;
@@ -179,36 +215,94 @@ Pipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& 
     check(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &p),
           ("vkCreateGraphicsPipelines " + d.name).c_str());
     ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(p), d.name);
-    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline), std::move(layout), VK_PIPELINE_BIND_POINT_GRAPHICS};
+    return {Unique<VkPipeline>(ctx.device(), p, vkDestroyPipeline),
+            std::move(layout),
+            VK_PIPELINE_BIND_POINT_GRAPHICS,
+            std::move(bindings),
+            shaders,
+            d.name};
 }
 
-DescriptorWriter& DescriptorWriter::image(uint32_t binding, VkDescriptorType type, VkImageView view,
-                                          VkImageLayout layout, VkSampler sampler) {
-    entries_.push_back({binding, type, {sampler, view, layout}, {}});
+const ReflectedBinding* Pipeline::findBinding(std::string_view name) const {
+    auto it =
+        std::find_if(bindings_.begin(), bindings_.end(), [&](const ReflectedBinding& b) { return b.name == name; });
+    return it == bindings_.end() ? nullptr : &*it;
+}
+
+DescriptorWriter& DescriptorWriter::sampled(std::string_view name, VkImageView view, VkSampler sampler,
+                                            VkImageLayout layout) {
+    entries_.push_back({std::string(name), Kind::Sampled, {sampler, view, layout}, {}});
     return *this;
 }
 
-DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
-                                           VkDeviceSize offset, VkDeviceSize range) {
-    entries_.push_back({binding, type, {}, {buffer, offset, range}});
+DescriptorWriter& DescriptorWriter::storage(std::string_view name, VkImageView view) {
+    entries_.push_back({std::string(name), Kind::Storage, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL}, {}});
     return *this;
 }
 
+DescriptorWriter& DescriptorWriter::buffer(std::string_view name, VkBuffer buffer, VkDeviceSize offset,
+                                           VkDeviceSize range) {
+    entries_.push_back({std::string(name), Kind::Buffer, {}, {buffer, offset, range}});
+    return *this;
+}
+
+// Names resolve against the reflection of the SPIR-V as compiled (glslang -g, unoptimised),
+// which lists every binding the GLSL declares, used or not: the table follows the GLSL text, and
+// one table serves every specialization of a shader (a variant that skips a binding still
+// declares it). So a writer writes exactly the bindings the shader declares, all of them, each
+// once: a declared but unused binding must be written too (binding a placeholder, as the
+// reflections passes do), and a binding an optimiser removed from the SPIR-V is unknown.
 void DescriptorWriter::push(const Context& ctx, VkCommandBuffer cmd, const Pipeline& pipeline) {
+    auto fits = [](VkDescriptorType type, Kind kind) {
+        switch (type) {
+            case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+                return kind == Kind::Sampled;
+            case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+                return kind == Kind::Storage;
+            case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+            case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+                return kind == Kind::Buffer;
+            default:
+                return false;
+        }
+    };
+    auto error = [&](const std::string& what) {
+        return std::logic_error("DescriptorWriter, pipeline '" + pipeline.name() + "' (" + pipeline.shader() +
+                                "): " + what);
+    };
+    const std::vector<ReflectedBinding>& table = pipeline.bindings();
+    std::vector<bool> written(table.size(), false);
     std::vector<VkWriteDescriptorSet> writes;
     writes.reserve(entries_.size());
     for (const Entry& e : entries_) {
+        const ReflectedBinding* b = pipeline.findBinding(e.name);
+        if (!b) throw error("the shader declares no binding '" + e.name + "'");
+        size_t index = size_t(b - table.data());
+        if (written[index]) throw error("'" + e.name + "' is written twice");
+        written[index] = true;
+        if (!fits(b->type, e.kind))
+            throw error("'" + e.name + "' (binding " + std::to_string(b->binding) + ") is a " +
+                        std::string(descriptorTypeName(b->type)) + ", written as " +
+                        (e.kind == Kind::Sampled   ? "sampled()"
+                         : e.kind == Kind::Storage ? "storage()"
+                                                   : "buffer()"));
+        if (b->count != 1)
+            throw error("'" + e.name + "' is an array of " + std::to_string(b->count) +
+                        "; DescriptorWriter writes single descriptors");
         VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        w.dstBinding = e.binding;
+        w.dstBinding = b->binding;
         w.descriptorCount = 1;
-        w.descriptorType = e.type;
-        bool isBuffer = e.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || e.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        if (isBuffer)
+        w.descriptorType = b->type;
+        if (e.kind == Kind::Buffer)
             w.pBufferInfo = &e.buffer;
         else
             w.pImageInfo = &e.image;
         writes.push_back(w);
     }
+    for (size_t i = 0; i < table.size(); ++i)
+        if (!written[i])
+            throw error("nothing wrote '" + table[i].name + "' (binding " + std::to_string(table[i].binding) + ", " +
+                        std::string(descriptorTypeName(table[i].type)) + ")");
     ctx.cmdPushDescriptorSet(cmd, pipeline.bindPoint(), pipeline.layout(), 0, static_cast<uint32_t>(writes.size()),
                              writes.data());
     entries_.clear();

@@ -8,8 +8,6 @@ namespace speculum::render {
 namespace {
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
 constexpr uint32_t kGroup = 8;  // local size of the ibl_*.comp shaders
 
 uint32_t groups(uint32_t n) {
@@ -32,12 +30,10 @@ struct PrefilterPush {
 
 CubeFilter::CubeFilter(const gpu::Context& ctx)
     : ctx_(ctx),
-      downsample_(gpu::createComputePipeline(ctx, "engine/ibl_downsample.comp",
-                                             {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-                                             sizeof(DownsamplePush), "render.environment.downsample")),
-      prefilter_(gpu::createComputePipeline(ctx, "engine/ibl_prefilter.comp",
-                                            {{0, kSampled, kCompute}, {1, kStorage, kCompute}},
-                                            sizeof(PrefilterPush), "render.environment.prefilter")) {}
+      downsample_(gpu::createComputePipeline(ctx, "engine/ibl_downsample.comp", sizeof(DownsamplePush),
+                                             "render.environment.downsample")),
+      prefilter_(gpu::createComputePipeline(ctx, "engine/ibl_prefilter.comp", sizeof(PrefilterPush),
+                                            "render.environment.prefilter")) {}
 
 void CubeFilter::recordBoxChain(VkCommandBuffer cmd, const gpu::Image& radiance, VkSampler sampler) const {
     const uint32_t size = radiance.desc().width;
@@ -50,8 +46,8 @@ void CubeFilter::recordBoxChain(VkCommandBuffer cmd, const gpu::Image& radiance,
     for (uint32_t m = 1; m < radiance.desc().mips; ++m) {
         const uint32_t mipSize = std::max(1u, size >> m);
         gpu::DescriptorWriter()
-            .sampled(0, radiance.mipView(m - 1), sampler)
-            .storage(1, radiance.mipView(m))
+            .sampled("source", radiance.mipView(m - 1), sampler)
+            .storage("target", radiance.mipView(m))
             .push(ctx_, cmd, downsample_);
         DownsamplePush p{mipSize};
         vkCmdPushConstants(cmd, downsample_.layout(), kCompute, 0, sizeof(p), &p);
@@ -111,7 +107,10 @@ void CubeFilter::recordPrefilterSlice(VkCommandBuffer cmd, const gpu::Image& rad
     const uint32_t mipSize = std::max(1u, size >> m);
     const float roughness = mips > 1 ? float(m) / float(mips - 1) : 0.0f;
     prefilter_.bind(cmd);
-    gpu::DescriptorWriter().sampled(0, radiance.view(), sampler).storage(1, mipView).push(ctx_, cmd, prefilter_);
+    gpu::DescriptorWriter()
+        .sampled("radiance", radiance.view(), sampler)
+        .storage("target", mipView)
+        .push(ctx_, cmd, prefilter_);
     // Mip 0 is the mirror image: one sample of a lobe too narrow to reach past the texel.
     PrefilterPush p{mipSize,
                     m == 0 ? 1u : samples,

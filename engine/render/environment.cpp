@@ -190,20 +190,15 @@ struct DfgPush {
 };
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 
 struct IblPipelines {
     gpu::Pipeline cube, dfg;
     CubeFilter filter;
 
     explicit IblPipelines(const gpu::Context& ctx)
-        : cube(gpu::createComputePipeline(ctx, "engine/ibl_equirect_to_cube.comp",
-                                          {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
-                                           {1, kStorage, kCompute},
-                                           {2, kStorage, kCompute}},
-                                          sizeof(CubePush), "render.environment.equirect_to_cube")),
-          dfg(gpu::createComputePipeline(ctx, "engine/ibl_dfg.comp", {{0, kStorage, kCompute}},
-                                         sizeof(DfgPush), "render.environment.dfg")),
+        : cube(gpu::createComputePipeline(ctx, "engine/ibl_equirect_to_cube.comp", sizeof(CubePush),
+                                          "render.environment.equirect_to_cube")),
+          dfg(gpu::createComputePipeline(ctx, "engine/ibl_dfg.comp", sizeof(DfgPush), "render.environment.dfg")),
           filter(ctx) {}
 };
 
@@ -232,9 +227,9 @@ void recordCubeChain(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipe
     const uint32_t size = specular.desc().width;
     p.cube.bind(cmd);
     gpu::DescriptorWriter()
-        .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.equirect.get())
-        .storage(1, in.radiance.mipView(0))
-        .storage(2, specular.mipView(0))
+        .buffer("equirect", in.equirect.get())
+        .storage("radianceCube", in.radiance.mipView(0))
+        .storage("specularCube", specular.mipView(0))
         .push(ctx, cmd, p.cube);
     // A face spans a quarter of the equirect's width; beyond one sky texel per cube texel the
     // lookups are averaged (capped: 8 x 8 keeps a 16k sky at cube size 512 cheap enough).
@@ -255,7 +250,7 @@ void recordDfg(const gpu::Context& ctx, VkCommandBuffer cmd, const IblPipelines&
                const gpu::Image& dfg) {
     const uint32_t size = dfg.desc().width;
     p.dfg.bind(cmd);
-    gpu::DescriptorWriter().storage(0, dfg.mipView(0)).push(ctx, cmd, p.dfg);
+    gpu::DescriptorWriter().storage("dfg", dfg.mipView(0)).push(ctx, cmd, p.dfg);
     push(cmd, p.dfg, DfgPush{size, kDfgSamples});
     vkCmdDispatch(cmd, groups(size), groups(size), 1);
 }

@@ -46,14 +46,6 @@ struct DrawConstants {
 };
 static_assert(sizeof(DrawConstants) <= 128, "push constants must fit lavapipe's 128 bytes");
 
-const std::vector<gpu::Binding> kGBufferBindings = {
-    {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
-    {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-};
-
 // Which of the three G-buffer pipelines a draw uses.
 enum class CullKind : uint8_t { Back, Front, None };
 
@@ -134,14 +126,12 @@ void Renderer::Impl::createGBufferPipelines() {
     constexpr const char* kSuffix[3] = {"", ".mirrored", ".double_sided"};
     gpu::GraphicsPipelineDesc prepass;
     prepass.vertexShader = "engine/depth_prepass.vert";
-    prepass.bindings = {kGBufferBindings[0]};
     // The shader declares the whole DrawConstants block; the prepass pushes only the model.
     prepass.pushConstantBytes = sizeof(DrawConstants);
     prepass.depthFormat = kDepthFormat;
 
     gpu::GraphicsPipelineDesc g;
     g.vertexShader = "engine/gbuffer.vert";
-    g.bindings = kGBufferBindings;
     g.pushConstantBytes = sizeof(DrawConstants);
     g.colorFormats = {kAlbedoFormat, kNormalFormat, kEmissiveFormat, kMotionFormat};
     g.depthFormat = kDepthFormat;
@@ -183,9 +173,7 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
         const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material]);
         if (p != bound) {
             p->bind(cmd);
-            gpu::DescriptorWriter()
-                .buffer(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.get())
-                .push(ctx, cmd, *p);
+            gpu::DescriptorWriter().buffer("frame", frameConstants.get()).push(ctx, cmd, *p);
             bound = p;
         }
         vkCmdPushConstants(cmd, p->layout(), kGraphicsPushStages, 0, sizeof(d.model), &d.model);
@@ -212,11 +200,11 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const
         if (d.material != boundMaterial) {
             VkSampler s = gpuScene.materialSampler;
             gpu::DescriptorWriter()
-                .buffer(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.get())
-                .sampled(1, m.baseColorView, s)
-                .sampled(2, m.metallicRoughnessView, s)
-                .sampled(3, m.normalView, s)
-                .sampled(4, m.emissiveView, s)
+                .buffer("frame", frameConstants.get())
+                .sampled("baseColorTex", m.baseColorView, s)
+                .sampled("metallicRoughnessTex", m.metallicRoughnessView, s)
+                .sampled("normalTex", m.normalView, s)
+                .sampled("emissiveTex", m.emissiveView, s)
                 .push(ctx, cmd, *p);
             boundMaterial = d.material;
         }

@@ -113,8 +113,6 @@ std::vector<uint32_t> specializationOf(const StaticLighting& s) {
 void Renderer::Impl::createLightingResources() {
     StaticLighting data = buildStaticLighting(scene, shadow, *environment, options.shadowMapSize);
     gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/lighting.frag", kLinearFormat, "render.lighting");
-    for (uint32_t b = 0; b < 7; ++b)
-        d.bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT});
     d.pushConstantBytes = sizeof(LightingConstants);
     lightingSpecialization = specializationOf(data);
     d.fragmentConstants = lightingSpecialization;
@@ -134,13 +132,13 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     beginFullscreenRendering(cmd, extent, pass.view(out));
     lightingPipeline.bind(cmd);
     gpu::DescriptorWriter()
-        .sampled(0, pass.view(g.depth), nearest)
-        .sampled(1, pass.view(g.albedo), nearest)
-        .sampled(2, pass.view(g.normal), nearest)
-        .sampled(3, pass.view(g.emissive), nearest)
-        .sampled(4, maskView, nearest)
-        .sampled(5, environment->specular().view(), environment->sampler())
-        .sampled(6, environment->dfg().view(), environment->sampler())
+        .sampled("depthTex", pass.view(g.depth), nearest)
+        .sampled("albedoTex", pass.view(g.albedo), nearest)
+        .sampled("normalTex", pass.view(g.normal), nearest)
+        .sampled("emissiveTex", pass.view(g.emissive), nearest)
+        .sampled("shadowMask", maskView, nearest)
+        .sampled("envSpecular", environment->specular().view(), environment->sampler())
+        .sampled("envDFG", environment->dfg().view(), environment->sampler())
         .push(ctx, cmd, lightingPipeline);
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),

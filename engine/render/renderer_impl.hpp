@@ -64,7 +64,7 @@ struct ShadowSetup {
 // Binds the scene's vertex and index buffers (gbuffer.cpp).
 void bindSceneGeometry(VkCommandBuffer cmd, const SceneGpu& scene);
 // A fullscreen-triangle pipeline (fullscreen.vert, no vertex input, no depth, no culling)
-// writing one colour target; callers add bindings, push constants and constants.
+// writing one colour target; callers add push constants and constants (bindings: the shader).
 gpu::GraphicsPipelineDesc fullscreenPipelineDesc(const std::string& fragmentShader, VkFormat color,
                                                  const std::string& name);
 // Begins rendering into one colour attachment that a fullscreen triangle (fullscreen.vert)

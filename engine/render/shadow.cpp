@@ -91,11 +91,6 @@ void Renderer::Impl::createShadowResources() {
 
     gpu::GraphicsPipelineDesc mask =
         fullscreenPipelineDesc("engine/shadow_mask.frag", VK_FORMAT_R8_UNORM, "render.shadow_mask");
-    mask.bindings = {
-        {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
-        {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-    };
     mask.pushConstantBytes = sizeof(MaskConstants);
     shadowMaskPipeline = gpu::createGraphicsPipeline(ctx, mask);
     shadowCompareSampler = createCompareSampler(ctx);
@@ -151,9 +146,9 @@ void Renderer::Impl::recordShadowMask(PassContext& pass, const FrameInputs& fram
     beginFullscreenRendering(cmd, extent, pass.view(out));
     shadowMaskPipeline.bind(cmd);
     gpu::DescriptorWriter()
-        .sampled(0, pass.view(depth), nearestSampler)
-        .sampled(1, pass.view(map), shadowCompareSampler)
-        .buffer(2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneShadow.get())
+        .sampled("depthTex", pass.view(depth), nearestSampler)
+        .sampled("shadowMap", pass.view(map), shadowCompareSampler)
+        .buffer("SceneShadowBuffer", sceneShadow.get())
         .push(ctx, cmd, shadowMaskPipeline);
     MaskConstants c{frame.camera.invViewProj, glm::vec4(frame.camera.position, 0.0f),
                     glm::uvec4(extent.width, extent.height, 0, 0)};

@@ -47,7 +47,6 @@ void beginFullscreenRendering(VkCommandBuffer cmd, VkExtent2D extent, VkImageVie
 
 void Renderer::Impl::createTonemapPipeline() {
     gpu::GraphicsPipelineDesc d = fullscreenPipelineDesc("engine/tonemap.frag", kColorFormat, "render.tonemap");
-    d.bindings = {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT}};
     d.pushConstantBytes = sizeof(TonemapConstants);
     tonemapPipeline = gpu::createGraphicsPipeline(ctx, d);
 }
@@ -58,9 +57,7 @@ void Renderer::Impl::recordTonemap(PassContext& pass, TextureHandle linear,
     VkExtent2D extent = pass.extent(out);
     beginFullscreenRendering(cmd, extent, pass.view(out));
     tonemapPipeline.bind(cmd);
-    gpu::DescriptorWriter()
-        .sampled(0, pass.view(linear), nearestSampler)
-        .push(ctx, cmd, tonemapPipeline);
+    gpu::DescriptorWriter().sampled("linearTex", pass.view(linear), nearestSampler).push(ctx, cmd, tonemapPipeline);
     TonemapConstants c{{extent.width, extent.height}, options.exposure};
     vkCmdPushConstants(cmd, tonemapPipeline.layout(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);

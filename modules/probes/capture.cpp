@@ -55,16 +55,16 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
         [this, frame, visible, res, &env](const Bounce& d, PassContext& pc) {
             bounce.bind(pc.cmd());
             gpu::DescriptorWriter()
-                .sampled(0, pc.view(d.g.depth), nearest)
-                .sampled(1, pc.view(d.g.albedo), nearest)
-                .sampled(2, pc.view(d.g.normal), nearest)
-                .sampled(3, pc.view(d.g.emissive), nearest)
-                .sampled(4, pc.view(d.lit), nearest)
-                .sampled(5, env.dfg().view(), env.sampler())
-                .buffer(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(d.recs))
-                .sampled(7, pc.view(d.array, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), sampler)
-                .sampled(8, env.specular().view(), env.sampler())
-                .storage(9, pc.view(d.out))
+                .sampled("depthTex", pc.view(d.g.depth), nearest)
+                .sampled("albedoTex", pc.view(d.g.albedo), nearest)
+                .sampled("normalTex", pc.view(d.g.normal), nearest)
+                .sampled("emissiveTex", pc.view(d.g.emissive), nearest)
+                .sampled("litTex", pc.view(d.lit), nearest)
+                .sampled("dfgTex", env.dfg().view(), env.sampler())
+                .buffer("ProbeBuffer", pc.buffer(d.recs))
+                .sampled("probeCubes", pc.view(d.array, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), sampler)
+                .sampled("envSpecular", env.specular().view(), env.sampler())
+                .storage("outLit", pc.view(d.out))
                 .push(ctx, pc.cmd(), bounce);
             BouncePush p{frame.camera.invViewProj, glm::vec4(frame.camera.position, float(env.mipCount() - 1)),
                          glm::uvec4(res, res, visible, 0u)};
@@ -172,14 +172,8 @@ TextureHandle Probes::addDebugView(FrameGraph& graph, const render::GBuffer& gbu
     Impl& m = *impl_;
     std::optional<gpu::Pipeline>& pipeline = m.debug[size_t(view)];
     if (!pipeline) {
-        constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipeline = gpu::createComputePipeline(m.ctx, "probes/debug.comp",
-                                              {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                               {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                               {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
-                                               {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                               {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kCompute}},
-                                              sizeof(BouncePush), "probes.debug", {uint32_t(view)});
+        pipeline = gpu::createComputePipeline(m.ctx, "probes/debug.comp", sizeof(BouncePush), "probes.debug",
+                                              {uint32_t(view)});
     }
     struct Data {
         TextureHandle depth, normal, cubes, out;
@@ -200,11 +194,11 @@ TextureHandle Probes::addDebugView(FrameGraph& graph, const render::GBuffer& gbu
             VkExtent2D e = pc.extent(data.out);
             p->bind(pc.cmd());
             gpu::DescriptorWriter()
-                .sampled(0, pc.view(data.depth), m.nearest)
-                .sampled(1, pc.view(data.normal), m.nearest)
-                .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.records))
-                .sampled(3, pc.view(data.cubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), m.sampler)
-                .storage(4, pc.view(data.out))
+                .sampled("depthTex", pc.view(data.depth), m.nearest)
+                .sampled("normalTex", pc.view(data.normal), m.nearest)
+                .buffer("ProbeBuffer", pc.buffer(data.records))
+                .sampled("probeCubes", pc.view(data.cubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), m.sampler)
+                .storage("outImage", pc.view(data.out))
                 .push(m.ctx, pc.cmd(), *p);
             BouncePush push{frame.camera.invViewProj, glm::vec4(frame.camera.position, invExposure),
                             glm::uvec4(e.width, e.height, count, 0u)};

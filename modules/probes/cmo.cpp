@@ -31,17 +31,6 @@ struct StorePush {
     glm::uvec4 info;
 };
 
-std::vector<gpu::Binding> storeBindings() {
-    std::vector<gpu::Binding> b;
-    for (uint32_t i = 0; i < 11; ++i)
-        b.push_back({i,
-                     i == 6  ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                     : i > 6 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                             : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                     VK_SHADER_STAGE_COMPUTE_BIT});
-    return b;
-}
-
 std::vector<gpu::Unique<VkImageView>> mipViews(const gpu::Context& ctx, const gpu::Image& image) {
     std::vector<gpu::Unique<VkImageView>> views;
     for (uint32_t m = 0; m < image.desc().mips; ++m) {
@@ -150,12 +139,8 @@ void Probes::Impl::createCmos() {
     c.mirrorCount = uint32_t(mirrors.size());
     c.mirrors = gpu::uploadBuffer(ctx, std::as_bytes(std::span(mirrors)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                   "probes.cmo.mirrors");
-    c.store = gpu::createComputePipeline(ctx, "probes/cmo_store.comp", storeBindings(), sizeof(StorePush),
-                                         "probes.cmo_store");
-    c.reduce = gpu::createComputePipeline(ctx, "probes/cmo_reduce.comp",
-                                          {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-                                           {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT}},
-                                          sizeof(glm::uvec4), "probes.cmo_hierarchy");
+    c.store = gpu::createComputePipeline(ctx, "probes/cmo_store.comp", sizeof(StorePush), "probes.cmo_store");
+    c.reduce = gpu::createComputePipeline(ctx, "probes/cmo_reduce.comp", sizeof(glm::uvec4), "probes.cmo_hierarchy");
     c.pending.assign(c.list.size(), false);
     c.ready.assign(c.list.size(), false);
     c.blind.assign(c.list.size(), false);
@@ -243,17 +228,17 @@ void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
             // No shadowed light: the face's own flat 1 (the shadow mask's dummy is the renderer's).
             VkImageView mask = d.g.shadowMask.valid() ? pc.view(d.g.shadowMask) : pc.view(d.face);
             gpu::DescriptorWriter()
-                .sampled(0, pc.view(d.g.depth), nearest)
-                .sampled(1, pc.view(d.g.albedo), nearest)
-                .sampled(2, pc.view(d.g.normal), nearest)
-                .sampled(3, pc.view(d.g.emissive), nearest)
-                .sampled(4, pc.view(d.face), nearest)
-                .sampled(5, mask, nearest)
-                .buffer(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, c.mirrors.get())
-                .storage(7, pc.view(d.radiance, target, VK_IMAGE_VIEW_TYPE_2D))
-                .storage(8, pc.view(d.distance, target, VK_IMAGE_VIEW_TYPE_2D))
-                .storage(9, pc.view(d.attr, target, VK_IMAGE_VIEW_TYPE_2D))
-                .storage(10, pc.view(d.albedo, target, VK_IMAGE_VIEW_TYPE_2D))
+                .sampled("depthTex", pc.view(d.g.depth), nearest)
+                .sampled("albedoTex", pc.view(d.g.albedo), nearest)
+                .sampled("normalTex", pc.view(d.g.normal), nearest)
+                .sampled("emissiveTex", pc.view(d.g.emissive), nearest)
+                .sampled("faceTex", pc.view(d.face), nearest)
+                .sampled("shadowMask", mask, nearest)
+                .buffer("MirrorTable", c.mirrors.get())
+                .storage("outRadiance", pc.view(d.radiance, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage("outDistance", pc.view(d.distance, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage("outAttr", pc.view(d.attr, target, VK_IMAGE_VIEW_TYPE_2D))
+                .storage("outAlbedo", pc.view(d.albedo, target, VK_IMAGE_VIEW_TYPE_2D))
                 .push(ctx, pc.cmd(), c.store);
             StorePush p{frame.camera.invViewProj, glm::vec4(info.center, 0.0f),
                         glm::uvec4(res, c.mirrorCount, d.g.shadowMask.valid() ? 1u : 0u, 0u)};
@@ -298,9 +283,8 @@ void Probes::Impl::finishCmo(size_t index) {
             // Distance: min and max of the four cells below.
             c.reduce.bind(cmd);
             gpu::DescriptorWriter()
-                .image(0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, c.distanceMips[m - 1].get(),
-                       VK_IMAGE_LAYOUT_GENERAL, nearest.get())
-                .storage(1, c.distanceMips[m].get())
+                .sampled("finer", c.distanceMips[m - 1].get(), nearest.get(), VK_IMAGE_LAYOUT_GENERAL)
+                .storage("coarser", c.distanceMips[m].get())
                 .push(ctx, cmd, c.reduce);
             glm::uvec4 push(size, layer, 0u, 0u);
             vkCmdPushConstants(cmd, c.reduce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);

@@ -27,18 +27,6 @@ std::string probeName(const Scene& scene, int node) {
     return "nodes[" + std::to_string(node) + "]" + (n.empty() ? "" : " \"" + n + "\"");
 }
 
-// capture_bounce.comp: G-buffer, lit image and DFG (0-5), records (6), cubes (7), sky (8), out (9).
-std::vector<gpu::Binding> bounceBindings() {
-    std::vector<gpu::Binding> b;
-    for (uint32_t i = 0; i < 10; ++i)
-        b.push_back({i,
-                     i == 6   ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                     : i == 9 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
-                              : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                     VK_SHADER_STAGE_COMPUTE_BIT});
-    return b;
-}
-
 }  // namespace
 
 ProbeInfo describeProbe(const Scene& scene, int node) {
@@ -78,8 +66,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
     : ctx(c), renderer(r), settings(s),
       sampler(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
-      bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp", bounceBindings(), 96,
-                                        "probes.capture_bounce")),
+      bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp", 96, "probes.capture_bounce")),
       filter(c), allocator(c.physicalDevice(), c.device()),
       executor(c.instance(), c.physicalDevice(), c.device(), c.timestampPeriodNs()) {
     const Scene& scene = r.scene();

@@ -119,10 +119,10 @@ struct Reflections::Impl {
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 
-    gpu::DescriptorWriter writer() const;  // binding 0: the frame uniforms
-    // writer() and bindings 1-4, the pixel's surface as material.glsl and the passes that trace,
-    // resolve, guide and accumulate read it: the Hi-Z pyramid (level 0: depth), normal and
-    // roughness, flags and material index, the material table.
+    gpu::DescriptorWriter writer() const;  // the frame constants, rf and rfm (common.glsl)
+    // writer() and the pixel's surface as material.glsl and the passes that trace, resolve,
+    // guide and accumulate read it: the Hi-Z pyramid `hiz` (level 0: depth), `normalTex`
+    // (normal and roughness), `emissiveTex` (flags and material index), the `MaterialTable`.
     gpu::DescriptorWriter surfaceWriter(PassContext& pc, TextureHandle hiz, TextureHandle normal,
                                         TextureHandle emissive) const;
     void dispatch(PassContext& pc, const gpu::Pipeline& p, gpu::DescriptorWriter& w, VkExtent2D extent,

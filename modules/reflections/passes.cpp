@@ -44,8 +44,9 @@ TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint
             },
             [this](const Data& data, PassContext& pc) {
                 Subresource src = data.level == 0 ? Subresource{} : mipLevel(data.level - 1);
-                gpu::DescriptorWriter w = writer();
-                w.sampled(1, pc.view(data.src, src), nearest).storage(2, pc.view(data.dst, mipLevel(data.level)));
+                gpu::DescriptorWriter w;  // hiz.comp reads no frame constants
+                w.sampled("src", pc.view(data.src, src), nearest)
+                    .storage("dst", pc.view(data.dst, mipLevel(data.level)));
                 dispatch(pc, hiz, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
             });
         pyramid = d.dst;
@@ -79,9 +80,9 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
                 gpu::DescriptorWriter w = writer();
                 // Level 1 reads no finer level (level 0 is 1): bind the Hi-Z in its place (unread).
                 VkImageView fine = data.level == 1 ? pc.view(data.hiz) : pc.view(data.src, mipLevel(data.level - 1));
-                w.sampled(1, pc.view(data.hiz), nearest)
-                    .sampled(2, fine, nearest)
-                    .storage(3, pc.view(data.dst, mipLevel(data.level)));
+                w.sampled("hiz", pc.view(data.hiz), nearest)
+                    .sampled("fineVis", fine, nearest)
+                    .storage("dst", pc.view(data.dst, mipLevel(data.level)));
                 dispatch(pc, visibility, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
             });
         pyramid = d.dst;
@@ -109,12 +110,12 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
         },
         [this](const ReprojectData& d, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(d.depth), nearest)
-                .sampled(2, pc.view(d.motion), nearest)
-                .sampled(3, pc.view(d.lit), nearest)
-                .sampled(4, pc.view(d.historyColor), trilinear)
-                .sampled(5, pc.view(d.historyDepth), nearest)
-                .storage(6, pc.view(d.dst, mipLevel(0)));
+            w.sampled("depthTex", pc.view(d.depth), nearest)
+                .sampled("motionTex", pc.view(d.motion), nearest)
+                .sampled("litTex", pc.view(d.lit), nearest)
+                .sampled("historyColor", pc.view(d.historyColor), trilinear)
+                .sampled("historyDepth", pc.view(d.historyDepth), nearest)
+                .storage("dst", pc.view(d.dst, mipLevel(0)));
             dispatch(pc, reproject, w, pc.extent(d.dst, 0));
         });
     TextureHandle pyramid = r.dst;
@@ -134,10 +135,10 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
                 data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
             },
             [this](const DownData& data, PassContext& pc) {
-                gpu::DescriptorWriter w = writer();
-                w.sampled(1, pc.view(data.src, mipLevel(data.level - 1)), nearest)
-                    .storage(2, pc.view(data.dst, mipLevel(data.level)))
-                    .sampled(3, pc.view(data.visibility, mipLevel(data.level)), nearest);
+                gpu::DescriptorWriter w;  // color_down.comp reads no frame constants
+                w.sampled("src", pc.view(data.src, mipLevel(data.level - 1)), nearest)
+                    .storage("dst", pc.view(data.dst, mipLevel(data.level)))
+                    .sampled("visibilityLevel", pc.view(data.visibility, mipLevel(data.level)), nearest);
                 dispatch(pc, colorDown, w, pc.extent(data.dst, data.level));
             });
         pyramid = d.dst;
@@ -168,7 +169,8 @@ Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const Refle
         [this, mode = s.trace, res, glossy = s.glossy](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             // Full resolution binds the hit image in the guide's place (not written).
-            w.storage(5, pc.view(data.hit)).storage(6, pc.view(data.guide.valid() ? data.guide : data.hit));
+            w.storage("hitOut", pc.view(data.hit))
+                .storage("guideOut", pc.view(data.guide.valid() ? data.guide : data.hit));
             dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
         });
     return {d.hit, d.guide};
@@ -201,16 +203,16 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
         [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear](const Data& data,
                                                                                         PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.sampled(5, pc.view(data.hit), nearest)
-                .sampled(6, pc.view(data.guide), nearest)
-                .buffer(7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.records))
-                .sampled(8, pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled(9, pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled(10, pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled(11, pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled(12, pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
-                .storage(13, pc.view(data.cmo))
-                .storage(14, pc.view(data.info));
+            w.sampled("hitTex", pc.view(data.hit), nearest)
+                .sampled("guideTex", pc.view(data.guide), nearest)
+                .buffer("CmoBuffer", pc.buffer(data.records))
+                .sampled("cmoDistance", pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled("cmoLayers", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled("cmoAttr", pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+                .storage("cmoOut", pc.view(data.cmo))
+                .storage("infoOut", pc.view(data.info));
             dispatch(pc, cmoTrace(half ? Resolution::Half : Resolution::Full, linear), w, pc.extent(data.cmo));
         });
     out.cmo = d.cmo;
@@ -251,16 +253,16 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                                                                                        PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.sampled(5, pc.view(data.hit), nearest)
-                .sampled(6, pc.view(data.color), trilinear)
-                .sampled(7, pc.view(data.guide), nearest)
-                .sampled(8, env.specular().view(), env.sampler())
-                .storage(9, pc.view(data.reflection))
-                .storage(10, pc.view(data.method))
-                .buffer(11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pc.buffer(data.probeRecords))
-                .sampled(12, pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
-                .sampled(13, pc.view(data.cmo), nearest)
-                .storage(14, pc.view(data.distance));
+            w.sampled("hitTex", pc.view(data.hit), nearest)
+                .sampled("colorPyramid", pc.view(data.color), trilinear)
+                .sampled("guideTex", pc.view(data.guide), nearest)
+                .sampled("envSpecular", env.specular().view(), env.sampler())
+                .storage("reflectionOut", pc.view(data.reflection))
+                .storage("methodOut", pc.view(data.method))
+                .buffer("ProbeBuffer", pc.buffer(data.probeRecords))
+                .sampled("probeCubes", pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+                .sampled("cmoTex", pc.view(data.cmo), nearest)
+                .storage("distanceOut", pc.view(data.distance));
             dispatch(pc, resolve(res, glossy), w, pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
@@ -305,19 +307,19 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
         [this, view, separate, temporal = raw.valid()](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.lit), nearest)
-                .sampled(2, pc.view(data.albedo), nearest)
-                .sampled(3, pc.view(data.normal), nearest)
-                .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get())
-                .sampled(5, pc.view(data.emissive), nearest)
-                .sampled(6, pc.view(data.reflection), nearest)
-                .sampled(7, env.dfg().view(), env.sampler())
-                .sampled(8, pc.view(data.hiz), nearest)
-                .sampled(9, pc.view(data.hit), nearest)
-                .sampled(10, pc.view(data.method), nearest)
-                .storage(11, pc.view(data.dst))
-                .storage(12, pc.view(separate ? data.plain : data.dst))  // unused when not separate
-                .sampled(13, pc.view(data.raw), nearest);
+            w.sampled("litTex", pc.view(data.lit), nearest)
+                .sampled("albedoTex", pc.view(data.albedo), nearest)
+                .sampled("normalTex", pc.view(data.normal), nearest)
+                .buffer("MaterialTable", materials.get())
+                .sampled("emissiveTex", pc.view(data.emissive), nearest)
+                .sampled("reflectionTex", pc.view(data.reflection), nearest)
+                .sampled("dfgTex", env.dfg().view(), env.sampler())
+                .sampled("hiz", pc.view(data.hiz), nearest)
+                .sampled("hitTex", pc.view(data.hit), nearest)
+                .sampled("methodTex", pc.view(data.method), nearest)
+                .storage("dst", pc.view(data.dst))
+                .storage("plainOut", pc.view(separate ? data.plain : data.dst))  // unused when not separate
+                .sampled("rawReflectionTex", pc.view(data.raw), nearest);
             dispatch(pc, composite(view, temporal), w, pc.extent(data.dst));
         });
     return {d.dst, separate ? d.plain : d.dst};
@@ -348,14 +350,14 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
         },
         [this](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.sampled(5, pc.view(data.motion), nearest)
-                .sampled(6, pc.view(data.reflection), nearest)
-                .sampled(7, pc.view(data.method), nearest)
-                .sampled(8, pc.view(data.history), nearest)
-                .sampled(9, pc.view(data.historyNormal), nearest)
-                .sampled(10, pc.view(data.historyDepth), nearest)
-                .storage(11, pc.view(data.dst))
-                .storage(12, pc.view(data.dstNormal));
+            w.sampled("motionTex", pc.view(data.motion), nearest)
+                .sampled("reflectionTex", pc.view(data.reflection), nearest)
+                .sampled("methodTex", pc.view(data.method), nearest)
+                .sampled("historyTex", pc.view(data.history), nearest)
+                .sampled("historyNormal", pc.view(data.historyNormal), nearest)
+                .sampled("historyDepth", pc.view(data.historyDepth), nearest)
+                .storage("accumulatedOut", pc.view(data.dst))
+                .storage("normalOut", pc.view(data.dstNormal));
             dispatch(pc, temporal, w, pc.extent(data.dst));
         });
     g.markOutput(d.dstNormal);
@@ -403,7 +405,7 @@ TextureHandle Reflections::Impl::addHiZView(FrameGraph& g, TextureHandle hizPyra
         },
         [this](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
-            w.sampled(1, pc.view(data.hiz), nearest).storage(2, pc.view(data.dst));
+            w.sampled("hiz", pc.view(data.hiz), nearest).storage("dst", pc.view(data.dst));
             dispatch(pc, hizView, w, pc.extent(data.dst));
         });
     return d.dst;

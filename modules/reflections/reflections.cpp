@@ -14,28 +14,6 @@ namespace speculum::reflections {
 namespace {
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-// The frame's constants are a storage buffer, not a uniform buffer: see ReflectionFrame in
-// shaders/reflections/common.glsl (a lavapipe leak, issue 15).
-constexpr VkDescriptorType kFrameBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-// The same buffer's matrices as a uniform block (shaders/reflections/frame.h says why).
-constexpr VkDescriptorType kMatrices = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-constexpr uint32_t kMatricesBinding = 15;
-
-// Binding 0 is the frame's uniforms in every pipeline; then bindings 1, 2, ... as the layout
-// string says, one letter per binding in the shader's order: s a sampled image, i a storage
-// image, b a storage buffer, - unused. "sssbi": sampled 1-3, the material table 4, storage 5.
-std::vector<gpu::Binding> bindings(std::string_view layout) {
-    std::vector<gpu::Binding> b{{0, kFrameBuffer, kCompute}, {kMatricesBinding, kMatrices, kCompute}};
-    for (uint32_t i = 0; i < layout.size(); ++i) {
-        char c = layout[i];
-        if (c == '-') continue;
-        b.push_back({i + 1, c == 's' ? kSampled : c == 'i' ? kStorage : kBuffer, kCompute});
-    }
-    return b;
-}
 
 // Per material: mode and CMO tracing, roughness scale, roughness override (-1: none), max screen-space
 // roughness. Every lit material reflects (reflectionsOf), glTF's default material included.
@@ -59,16 +37,13 @@ std::vector<glm::vec4> materialTable(const Scene& scene) {
 Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
     : ctx(c),
       renderer(r),
-      hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", bindings("si"), sizeof(uint32_t), "reflections.hiz")),
-      visibility(gpu::createComputePipeline(c, "reflections/visibility.comp", bindings("ssi"), sizeof(uint32_t),
-                                            "reflections.visibility")),
-      reproject(
-          gpu::createComputePipeline(c, "reflections/reproject.comp", bindings("sssssi"), 0, "reflections.reproject")),
-      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", bindings("sis"), 0,
-                                           "reflections.color_pyramid")),
-      hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", bindings("si"), 0, "reflections.hiz_view")),
-      temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", bindings("sssbssssssii"), 0,
-                                          "reflections.temporal")),
+      hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", sizeof(uint32_t), "reflections.hiz")),
+      visibility(
+          gpu::createComputePipeline(c, "reflections/visibility.comp", sizeof(uint32_t), "reflections.visibility")),
+      reproject(gpu::createComputePipeline(c, "reflections/reproject.comp", 0, "reflections.reproject")),
+      colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", 0, "reflections.color_pyramid")),
+      hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", 0, "reflections.hiz_view")),
+      temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", 0, "reflections.temporal")),
       upsampler(c),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
@@ -194,17 +169,19 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
 
 gpu::DescriptorWriter Reflections::Impl::writer() const {
     gpu::DescriptorWriter w;
-    w.buffer(0, kFrameBuffer, uniforms.get()).buffer(kMatricesBinding, kMatrices, uniforms.get());
+    // One buffer, read twice: as the storage buffer `rf` and its leading matrices as the uniform
+    // block `rfm` (shaders/reflections/frame.h says why).
+    w.buffer("rf", uniforms.get()).buffer("rfm", uniforms.get());
     return w;
 }
 
 gpu::DescriptorWriter Reflections::Impl::surfaceWriter(PassContext& pc, TextureHandle hizImage, TextureHandle normal,
                                                        TextureHandle emissive) const {
     gpu::DescriptorWriter w = writer();
-    w.sampled(1, pc.view(hizImage), nearest)
-        .sampled(2, pc.view(normal), nearest)
-        .sampled(3, pc.view(emissive), nearest)
-        .buffer(4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, materials.get());
+    w.sampled("hiz", pc.view(hizImage), nearest)
+        .sampled("normalTex", pc.view(normal), nearest)
+        .sampled("emissiveTex", pc.view(emissive), nearest)
+        .buffer("MaterialTable", materials.get());
     return w;
 }
 
@@ -228,7 +205,7 @@ void Reflections::resetHistory() {
 const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/trace.comp", bindings("sssbii"), 0, "reflections.trace",
+        p = gpu::createComputePipeline(ctx, "reflections/trace.comp", 0, "reflections.trace",
                                        {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
@@ -236,8 +213,8 @@ const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolut
 const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy) {
     std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution) * 2 + size_t(glossy));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", bindings("sssbssssiibssi"), 0,
-                                       "reflections.resolve", {uint32_t(resolution), uint32_t(glossy)});
+        p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", 0, "reflections.resolve",
+                                       {uint32_t(resolution), uint32_t(glossy)});
     return *p;
 }
 
@@ -249,8 +226,7 @@ const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool lin
         constants.resize(302, 0u);
         constants[300] = uint32_t(resolution);
         constants[301] = linear ? 1u : 0u;
-        p = gpu::createComputePipeline(ctx, "reflections/cmo_trace.comp", bindings("sssbssbsssssii"), 0,
-                                       "reflections.cmo_trace", constants);
+        p = gpu::createComputePipeline(ctx, "reflections/cmo_trace.comp", 0, "reflections.cmo_trace", constants);
     }
     return *p;
 }
@@ -258,8 +234,8 @@ const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool lin
 const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal) {
     std::optional<gpu::Pipeline>& p = composites.at(size_t(view) * 2 + (temporal ? 1 : 0));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", bindings("sssbssssssiis"), 0,
-                                       "reflections.composite", {uint32_t(view), temporal ? 1u : 0u});
+        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", 0, "reflections.composite",
+                                       {uint32_t(view), temporal ? 1u : 0u});
     return *p;
 }
 

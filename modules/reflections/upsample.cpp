@@ -7,8 +7,6 @@ namespace speculum::reflections {
 namespace {
 
 constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
-constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 constexpr VkFormat kFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 
 static_assert(sizeof(shader::UpsampleParams) == 96, "std430 push constants");
@@ -17,13 +15,8 @@ static_assert(sizeof(shader::UpsampleParams) == 96, "std430 push constants");
 
 BilateralUpsampler::BilateralUpsampler(const gpu::Context& ctx)
     : ctx_(ctx),
-      pipeline_(gpu::createComputePipeline(ctx, "reflections/upsample.comp",
-                                           {{0, kSampled, kCompute},
-                                            {1, kSampled, kCompute},
-                                            {2, kSampled, kCompute},
-                                            {3, kSampled, kCompute},
-                                            {4, kStorage, kCompute}},
-                                           sizeof(shader::UpsampleParams), "reflections.upsample")),
+      pipeline_(gpu::createComputePipeline(ctx, "reflections/upsample.comp", sizeof(shader::UpsampleParams),
+                                           "reflections.upsample")),
       nearest_(gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)) {}
 
 TextureHandle BilateralUpsampler::addPass(FrameGraph& g, const UpsampleInputs& in, const std::string& pass,
@@ -49,11 +42,11 @@ TextureHandle BilateralUpsampler::addPass(FrameGraph& g, const UpsampleInputs& i
             shader::UpsampleParams params = base;
             params.size = glm::vec4(float(full.width), float(full.height), float(low.width), float(low.height));
             gpu::DescriptorWriter w;
-            w.sampled(0, pc.view(data.depth), nearest_.get())
-                .sampled(1, pc.view(data.normal), nearest_.get())
-                .sampled(2, pc.view(data.guide), nearest_.get())
-                .sampled(3, pc.view(data.low), nearest_.get())
-                .storage(4, pc.view(data.full));
+            w.sampled("depthTex", pc.view(data.depth), nearest_.get())
+                .sampled("normalTex", pc.view(data.normal), nearest_.get())
+                .sampled("guideTex", pc.view(data.guide), nearest_.get())
+                .sampled("lowTex", pc.view(data.low), nearest_.get())
+                .storage("fullOut", pc.view(data.full));
             pipeline_.bind(pc.cmd());
             w.push(ctx_, pc.cmd(), pipeline_);
             vkCmdPushConstants(pc.cmd(), pipeline_.layout(), kCompute, 0, sizeof(params), &params);

@@ -147,15 +147,7 @@ class CmoRig {
 public:
     explicit CmoRig(const gpu::Context& ctx)
         : ctx_(ctx),
-          pipeline_(gpu::createComputePipeline(ctx, "probes/cmo_trace_test.comp",
-                                               {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
-                                                {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                                {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                                {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                                {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kCompute},
-                                                {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute},
-                                                {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCompute}},
-                                               sizeof(glm::vec4), "test.cmo.trace")),
+          pipeline_(gpu::createComputePipeline(ctx, "probes/cmo_trace_test.comp", sizeof(glm::vec4), "test.cmo.trace")),
           sampler_(gpu::createSampler(ctx, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)) {}
 
     // Per ray: (status, tHit, iterations, 0) of the hierarchical tracer, then of the linear one.
@@ -178,15 +170,16 @@ public:
         VkImageView distance = module.cmoDistance().view();
         ctx_.submitAndWait([&](VkCommandBuffer cmd) {
             pipeline_.bind(cmd);
-            const VkDescriptorType sampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            // The tracers read distances only: the other arrays are bound to the distance array.
+            const VkImageLayout general = VK_IMAGE_LAYOUT_GENERAL;
             gpu::DescriptorWriter()
-                .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, recs.get())
-                .image(1, sampled, distance, VK_IMAGE_LAYOUT_GENERAL, sampler_.get())
-                .image(2, sampled, distance, VK_IMAGE_LAYOUT_GENERAL, sampler_.get())
-                .image(3, sampled, distance, VK_IMAGE_LAYOUT_GENERAL, sampler_.get())
-                .image(4, sampled, distance, VK_IMAGE_LAYOUT_GENERAL, sampler_.get())
-                .buffer(5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.get())
-                .buffer(6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.get())
+                .buffer("CmoBuffer", recs.get())
+                .sampled("cmoDistance", distance, sampler_.get(), general)
+                .sampled("cmoLayers", distance, sampler_.get(), general)
+                .sampled("cmoAttr", distance, sampler_.get(), general)
+                .sampled("cmoAlbedo", distance, sampler_.get(), general)
+                .buffer("Queries", in.get())
+                .buffer("Results", out.get())
                 .push(ctx_, cmd, pipeline_);
             glm::vec4 params(step, 0.05f, 100000.0f, float(queries.size()));
             vkCmdPushConstants(cmd, pipeline_.layout(), kCompute, 0, sizeof(params), &params);

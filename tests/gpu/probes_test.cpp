@@ -70,13 +70,7 @@ class LookupRig {
 public:
     explicit LookupRig(const gpu::Context& ctx)
         : ctx_(ctx),
-          pipeline_(gpu::createComputePipeline(
-              ctx, "probes/lookup_test.comp",
-              {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-               {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
-               {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-               {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}},
-              16, "test.probes.lookup")),
+          pipeline_(gpu::createComputePipeline(ctx, "probes/lookup_test.comp", 16, "test.probes.lookup")),
           cubes_(ctx,
                  {8, 8, VK_FORMAT_R32G32B32A32_SFLOAT, 1, 12, true,
                   VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
@@ -103,10 +97,10 @@ public:
         ctx_.submitAndWait([&](VkCommandBuffer cmd) {
             pipeline_.bind(cmd);
             gpu::DescriptorWriter()
-                .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, recs.get())
-                .sampled(1, cubes_.view(), sampler_)
-                .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.get())
-                .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.get())
+                .buffer("ProbeBuffer", recs.get())
+                .sampled("probeCubes", cubes_.view(), sampler_)
+                .buffer("Queries", in.get())
+                .buffer("Results", out.get())
                 .push(ctx_, cmd, pipeline_);
             glm::uvec4 info(uint32_t(queries.size()), uint32_t(records.size()), 0u, 0u);
             vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(info), &info);
