@@ -277,15 +277,16 @@ bool Probes::relocating() const {
 }
 
 void Probes::Impl::stepRelocations() {
+    // A local probe's cycle is the time-sliced one: six faces, then the prefilter's steps.
     for (size_t i = 0; i < probes.size(); ++i) {
         if (relocating[i] < 0) continue;
-        uint32_t face = uint32_t(relocating[i]);
-        captureFace(i, face);
-        if (face < 5) {
+        size_t step = size_t(relocating[i]);
+        if (step < 6) captureFace(i, uint32_t(step));
+        else prefilterStep(i, step - 6);
+        if (step + 1 < timeSlicedCycle()) {
             ++relocating[i];
             continue;
         }
-        prefilter(i);
         relocating[i] = movedAgain[i] ? 0 : -1;
         movedAgain[i] = false;
     }

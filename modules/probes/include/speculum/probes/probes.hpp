@@ -129,7 +129,7 @@ public:
     // without rebuilding the module (the editor's live re-bake while a probe is dragged): its
     // faces are captured again one per update(), time-sliced, from the new place. A local
     // probe's record follows at once (its proxy moves, its cube is the old capture until the
-    // sixth face is prefiltered); a CMO is left out of tracing until its six new faces and
+    // prefilter's steps after the sixth face land, one per update); a CMO is left out of tracing until its six new faces and
     // hierarchy are done (its distances are relative to its centre). Moved again before the
     // sixth face, the cycle goes on and starts once more. False if the node has neither.
     bool moveProbe(int node, const glm::mat4& world);
