@@ -93,32 +93,7 @@ game::FrameInput liveInput(GLFWwindow* w, bool playing, double& lastX, double& l
 
 // The frame's image blitted (bilinear) over the whole window, then the HUD over it.
 void addPresentPasses(FrameGraph& g, TextureHandle color, app::Swapchain& swapchain, editor::UiLayer& ui) {
-    VkExtent2D extent = swapchain.extent();
-    TextureDesc desc{.width = extent.width, .height = extent.height, .format = swapchain.format()};
-    TextureHandle target =
-        g.importTexture("game.swapchain", desc,
-                        {swapchain.image(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                         VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
-    struct Data {
-        TextureHandle src, dst;
-    };
-    const Data& d = g.addPass<Data>(
-        "game.upscale", PassType::Transfer,
-        [&](PassBuilder& b, Data& data) {
-            data.src = b.read(color, TextureUsage::TransferSrc);
-            data.dst = b.write(target, TextureUsage::TransferDst);
-        },
-        [](const Data& data, PassContext& pc) {
-            VkExtent2D s = pc.extent(data.src), t = pc.extent(data.dst);
-            VkImageBlit blit{};
-            blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            blit.srcOffsets[1] = {int32_t(s.width), int32_t(s.height), 1};
-            blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            blit.dstOffsets[1] = {int32_t(t.width), int32_t(t.height), 1};
-            vkCmdBlitImage(pc.cmd(), pc.image(data.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.dst),
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-        });
-    ui.addPass(g, d.dst);
+    ui.addPass(g, swapchain.addPresentPass(g, color, VK_FILTER_LINEAR));
 }
 
 struct Hud {

@@ -144,22 +144,22 @@ bool Swapchain::acquire() {
     return true;
 }
 
-void Swapchain::addPresentPass(FrameGraph& graph, TextureHandle color) {
+TextureHandle Swapchain::addPresentPass(FrameGraph& graph, TextureHandle color, VkFilter filter) {
     TextureDesc desc{.width = extent_.width, .height = extent_.height, .format = format_};
     TextureHandle target = graph.importTexture(
         "game.swapchain", desc,
-        {images_[image_], VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_USAGE_TRANSFER_DST_BIT});
+        {images_[image_], VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, usage_});
     struct Data {
         TextureHandle src, dst;
     };
-    graph.addPass<Data>(
+    return graph.addPass<Data>(
         "game.present", PassType::Transfer,
         [&](PassBuilder& b, Data& d) {
             d.src = b.read(color, TextureUsage::TransferSrc);
             d.dst = b.write(target, TextureUsage::TransferDst);
             b.sideEffect();
         },
-        [](const Data& d, PassContext& pc) {
+        [filter](const Data& d, PassContext& pc) {
             VkExtent2D s = pc.extent(d.src), t = pc.extent(d.dst);
             VkImageBlit blit{};
             blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -167,8 +167,9 @@ void Swapchain::addPresentPass(FrameGraph& graph, TextureHandle color) {
             blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             blit.dstOffsets[1] = {int32_t(t.width), int32_t(t.height), 1};
             vkCmdBlitImage(pc.cmd(), pc.image(d.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(d.dst),
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
-        });
+                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, filter);
+        })
+        .dst;
 }
 
 void Swapchain::present() {

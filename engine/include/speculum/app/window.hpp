@@ -40,8 +40,9 @@ public:
 
     // Returns false when the swapchain had to be recreated (skip this frame).
     bool acquire();
-    // Adds "game.present": blits `color` into the acquired image, leaves it ready to present.
-    void addPresentPass(FrameGraph& graph, TextureHandle color);
+    // Adds "game.present": blits `color` into the acquired image (scaled, with `filter`), leaves
+    // it ready to present; returns the image's handle, for passes drawn over it (a HUD).
+    TextureHandle addPresentPass(FrameGraph& graph, TextureHandle color, VkFilter filter = VK_FILTER_LINEAR);
     void present();
     VkSemaphore acquired() const { return acquired_[frame_]; }
     VkSemaphore rendered() const { return rendered_[image_]; }
