@@ -118,27 +118,7 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
     ++faces;
 }
 
-void Probes::Impl::prefilter(size_t index) {
-    const gpu::Image& source = radiance[index];
-    std::vector<VkImageView> views;
-    for (const auto& v : targetViews[index]) views.push_back(v.get());
-    auto start = std::chrono::steady_clock::now();
-    ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        filter.recordBoxChain(cmd, source, sampler);
-        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                        VK_IMAGE_LAYOUT_GENERAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
-        filter.recordPrefilter(cmd, source, sampler, views, faceSize, 0, uint32_t(settings.prefilterSamples));
-        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
-                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
-        gpu::transition(cmd, source.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                        VK_IMAGE_LAYOUT_GENERAL);
-    });
-    ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    ready[index] = true;
-    writeRecords();
-}
-
-void Probes::Impl::prefilterStep(size_t index, size_t step) {
+void Probes::Impl::prefilter(size_t index, const std::vector<render::PrefilterStep>& plan, size_t step) {
     const gpu::Image& source = radiance[index];
     auto start = std::chrono::steady_clock::now();
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
@@ -149,7 +129,7 @@ void Probes::Impl::prefilterStep(size_t index, size_t step) {
         gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                         VK_IMAGE_LAYOUT_GENERAL, 0, VK_REMAINING_MIP_LEVELS, uint32_t(6 * index), 6);
         // The slices of one step write disjoint texels and only read the source: no barrier between.
-        for (const render::PrefilterSlice& slice : steps[step])
+        for (const render::PrefilterSlice& slice : plan[step])
             filter.recordPrefilterSlice(cmd, source, sampler, targetViews[index][slice.mip].get(), faceSize, mips,
                                         slice, uint32_t(settings.prefilterSamples));
         gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
@@ -158,9 +138,15 @@ void Probes::Impl::prefilterStep(size_t index, size_t step) {
                         VK_IMAGE_LAYOUT_GENERAL);
     });
     ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (step + 1 < steps.size()) return;
+    if (step + 1 < plan.size()) return;
     ready[index] = true;
     writeRecords();
+}
+
+bool Probes::Impl::cycleStep(size_t index, size_t step) {
+    if (step < 6) captureFace(index, uint32_t(step));
+    else prefilter(index, steps, step - 6);
+    return step + 1 == timeSlicedCycle();
 }
 
 }  // namespace speculum::probes

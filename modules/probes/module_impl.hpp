@@ -47,7 +47,8 @@ struct Probes::Impl {
     std::vector<bool> ready;  // prefiltered at least once: its record is in `records`
     // Time-sliced cycle: the time-sliced probes in turn, each six captures (steps 0-5) and then
     // its prefilter's steps (6 ...), one step per update.
-    std::vector<render::PrefilterStep> steps;  // the prefilter of one cube of the array, sliced
+    std::vector<render::PrefilterStep> steps;      // the prefilter of one cube of the array, sliced
+    std::vector<render::PrefilterStep> wholePlan;  // the same in one step of whole mips (bakes)
     size_t slicedProbe = 0;
     size_t slicedStep = 0;
     size_t timeSlicedCycle() const { return 6 + steps.size(); }
@@ -79,11 +80,13 @@ struct Probes::Impl {
     void allocate();
     // Renders face `face` of probe `index` into its radiance cube (capture.cpp).
     void captureFace(size_t index, uint32_t face);
-    // Box chain of the probe's radiance cube, then the GGX prefilter into its cube of the array.
-    void prefilter(size_t index);
-    // Step `step` of the sliced prefilter of probe `index` (the first also box-filters its
-    // radiance cube; after the last, the probe is ready).
-    void prefilterStep(size_t index, size_t step);
+    // Step `step` of `plan` (steps, or wholePlan: all mips at once), the GGX prefilter of probe
+    // `index`'s radiance cube into its cube of the array: the first also box-filters the radiance
+    // cube; after the last, the probe is ready.
+    void prefilter(size_t index, const std::vector<render::PrefilterStep>& plan, size_t step);
+    // Step `step` of a time-sliced cycle of probe `index`: a face, then the prefilter's steps;
+    // true when it was the cycle's last.
+    bool cycleStep(size_t index, size_t step);
     // Writes the ready probes' records, in blend order, and returns how many.
     uint32_t writeRecords();
     uint32_t readyCount() const;

@@ -140,6 +140,7 @@ void Probes::Impl::allocate() {
     }
     steps = render::planPrefilterSteps(faceSize, mips, 0, uint32_t(settings.prefilterSamples),
                                        uint64_t(settings.prefilterSlice) * 1024);
+    wholePlan = render::planPrefilterSteps(faceSize, mips, 0, uint32_t(settings.prefilterSamples), ~uint64_t(0));
     pending.assign(probes.size(), false);
     ready.assign(probes.size(), false);
     relocating.assign(probes.size(), -1);
@@ -203,7 +204,7 @@ void Probes::Impl::bakeAll(const std::vector<size_t>& which, const Progress& pro
             captureFace(i, f);
             if (progress) progress(++done, total);
         }
-        prefilter(i);
+        prefilter(i, wholePlan, 0);
     }
 }
 
@@ -229,10 +230,7 @@ void Probes::update(const Progress& progress) {
     }
     for (size_t i : full) m.pending[i] = false;
     if (!sliced.empty()) {
-        size_t probe = sliced[m.slicedProbe % sliced.size()];
-        if (m.slicedStep < 6) m.captureFace(probe, uint32_t(m.slicedStep));
-        else m.prefilterStep(probe, m.slicedStep - 6);
-        if (++m.slicedStep == m.timeSlicedCycle()) {
+        if (m.cycleStep(sliced[m.slicedProbe % sliced.size()], m.slicedStep++)) {
             m.slicedStep = 0;
             ++m.slicedProbe;
         }
@@ -280,10 +278,7 @@ void Probes::Impl::stepRelocations() {
     // A local probe's cycle is the time-sliced one: six faces, then the prefilter's steps.
     for (size_t i = 0; i < probes.size(); ++i) {
         if (relocating[i] < 0) continue;
-        size_t step = size_t(relocating[i]);
-        if (step < 6) captureFace(i, uint32_t(step));
-        else prefilterStep(i, step - 6);
-        if (step + 1 < timeSlicedCycle()) {
+        if (!cycleStep(i, size_t(relocating[i]))) {
             ++relocating[i];
             continue;
         }
