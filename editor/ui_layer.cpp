@@ -184,7 +184,6 @@ void UiLayer::beginInput() {
 }
 
 TextureHandle UiLayer::addPanels(FrameGraph& graph, TextureHandle target, VkExtent2D e, const float viewport[4]) {
-    ++frames_;
     // The split: a list reaches over the viewport when its vertices, clipped by their command's
     // rectangle, cover more than a pixel of it in both directions (the fixed panels' borders touch its edges; a
     // window's clip rectangles alone are often the whole screen).

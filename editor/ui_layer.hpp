@@ -48,9 +48,8 @@ public:
     // Adds `editor.ui`: `view` (the viewport's image) scaled into `viewport` (x y w h in window
     // pixels, whole pixels), then the lists over the viewport, drawn over `target`.
     TextureHandle addOverlays(FrameGraph& graph, TextureHandle target, TextureHandle view, const float viewport[4]);
-    // Frames whose panels came from the cache, and all frames (the measurement prints them).
+    // Frames whose panels came from the cache (the measurement prints them).
     size_t cachedFrames() const { return cachedFrames_; }
-    size_t frames() const { return frames_; }
     // After the frame's submit finished: its framebuffers go.
     void endFrame();
 
@@ -68,7 +67,7 @@ private:
     bool cacheValid_ = false;
     std::vector<ImDrawList*> panels_, live_;  // this frame's split of ImGui's draw lists
     float liveArea_[4] = {};                  // x0 y0 x1 y1: the live lists' clip rectangles
-    size_t cachedFrames_ = 0, frames_ = 0;
+    size_t cachedFrames_ = 0;
     // One per recorded frame: the swapchain view is the frame graph's, so a framebuffer lives for
     // one frame only (FrameRunner::render waits for the frame before it returns).
     std::vector<gpu::Unique<VkFramebuffer>> framebuffers_;
