@@ -5,7 +5,9 @@ set -euo pipefail
 root=$1
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/tools" "$work/assets/scenes" "$work/assets/paths" "$work/assets/blender"
+# The generator is tools/make_scenes.py and the packages it imports (tools/scenes, tools/speculum_py).
 cp "$root/tools/make_scenes.py" "$work/tools/"
+cp -r "$root/tools/scenes" "$root/tools/speculum_py" "$work/tools/"
 # The CMO placement reports the generator reads (speculum-probes place wrote them).
 cp -r "$root/assets/placement" "$work/assets/"
 python3 "$work/tools/make_scenes.py" >/dev/null

@@ -48,7 +48,7 @@ HERE = Path(__file__).resolve().parent
 SOURCE = HERE.parents[2]
 sys.path.insert(0, str(SOURCE / "tools"))
 sys.path.insert(0, str(SOURCE / "tests" / "bench"))
-import make_scenes as ms  # noqa: E402  (accessor reader, vector and matrix helpers)
+from speculum_py import gltf as msg, vec as ms  # noqa: E402  (accessor reader, vector and matrix helpers)
 
 PROBE_EXT = "SPECULUM_reflection_probe"
 REFLECT_EXT = "SPECULUM_reflections"
@@ -181,9 +181,9 @@ def world_matrices(doc):
 def read_values(doc, buffers, ai):
     acc = doc["accessors"][ai]
     if "bufferView" not in acc:  # all zeros (sparse accessors without a base view)
-        n = ms.NCOMP[acc["type"]]
+        n = msg.NCOMP[acc["type"]]
         return [tuple([0.0] * n) if n > 1 else 0 for _ in range(acc["count"])]
-    vals = ms.read_accessor(doc, buffers, ai)
+    vals = msg.read_accessor(doc, buffers, ai)
     if acc.get("normalized"):
         scale = {5120: 127.0, 5121: 255.0, 5122: 32767.0, 5123: 65535.0}.get(acc["componentType"], 1.0)
         vals = [tuple(max(c / scale, -1.0) for c in v) if isinstance(v, tuple) else max(v / scale, -1.0)
@@ -244,14 +244,14 @@ class Geometry:
                     mat = prim.get("material", -1)
                     for a, b, c in tri_idx:
                         if max(a, b, c) >= len(pos):
-                            raise ms.CheckError(f"meshes[{n['mesh']}]: index out of range")
+                            raise msg.GltfError(f"meshes[{n['mesh']}]: index out of range")
                         pa, pb, pc = pos[a], pos[b], pos[c]
                         e1, e2 = sub(pb, pa), sub(pc, pa)
                         g = cross(e1, e2)
                         if length(g) < 1e-14:
                             continue
                         self.tris.append((pa, e1, e2, normalize(g), mat))
-        except (ms.CheckError, KeyError, IndexError, TypeError, struct.error) as e:
+        except (msg.GltfError, KeyError, IndexError, TypeError, struct.error) as e:
             raise InputError(f"{path}: cannot read the geometry: {type(e).__name__}: {e}", 3)
         self.lo = tuple(min(min(t[0][k], t[0][k] + t[1][k], t[0][k] + t[2][k]) for t in self.tris) if self.tris else 0.0
                         for k in range(3))
