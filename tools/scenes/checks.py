@@ -8,7 +8,7 @@ import math
 import os
 
 from speculum_py.enums import KIND, MODE, PROBE_EXT, REFLECT_EXT, SHAPE, UPDATE
-from speculum_py.gltf import GltfError as CheckError, load_document, read_accessor, require, world_matrices
+from speculum_py.gltf import CheckError, load_document, read_accessor, require, world_matrices
 from speculum_py.raycast import RayCaster
 from speculum_py.vec import add, cross, dot, length, mat_dir, mat_point, mul, normalize, sub
 

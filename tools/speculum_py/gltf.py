@@ -11,27 +11,27 @@ from pathlib import Path
 from .vec import mat_from_trs, mat_mul, mat_point
 
 
-class GltfError(Exception):
+class CheckError(Exception):
     """A file that is not what it should be; the message names what and where."""
 
 
 def require(cond, msg):
     if not cond:
-        raise GltfError(msg)
+        raise CheckError(msg)
 
 
 def load_document(path):
     """(doc, buffers, glb_bin): the JSON and every buffer's bytes (.gltf with files or data: uris, or
-    .glb); GltfError, one line naming the file, on anything unreadable."""
+    .glb); CheckError, one line naming the file, on anything unreadable."""
     p = Path(path)
     if not p.exists():
-        raise GltfError(f"{path}: no such file")
+        raise CheckError(f"{path}: no such file")
     if not p.is_file():
-        raise GltfError(f"{path}: is a folder" if p.is_dir() else f"{path}: is not a regular file")
+        raise CheckError(f"{path}: is a folder" if p.is_dir() else f"{path}: is not a regular file")
     try:
         data = p.read_bytes()
     except OSError as e:
-        raise GltfError(f"{path}: cannot read: {e.strerror}")
+        raise CheckError(f"{path}: cannot read: {e.strerror}")
     glb_bin = None
     try:
         if data[:4] == b"glTF":
@@ -53,32 +53,32 @@ def load_document(path):
             text = data.decode("utf-8")
         doc = json.loads(text)
     except RecursionError:
-        raise GltfError(f"{path}: JSON nests too deeply")
+        raise CheckError(f"{path}: JSON nests too deeply")
     except (ValueError, UnicodeDecodeError, struct.error) as e:
-        raise GltfError(f"{path}: not a glTF file: {str(e)[:200]}")
+        raise CheckError(f"{path}: not a glTF file: {str(e)[:200]}")
     if not isinstance(doc, dict):
-        raise GltfError(f"{path}: the glTF must be a JSON object")
+        raise CheckError(f"{path}: the glTF must be a JSON object")
     for key in ("nodes", "meshes", "accessors", "bufferViews", "buffers", "materials", "cameras", "scenes"):
         if key in doc and not isinstance(doc[key], list):
-            raise GltfError(f"{path}: '{key}' must be an array")
+            raise CheckError(f"{path}: '{key}' must be an array")
     buffers = []
     for i, b in enumerate(doc.get("buffers", [])):
         uri = b.get("uri") if isinstance(b, dict) else None
         if uri is None:
             if glb_bin is None:
-                raise GltfError(f"{path}: buffers[{i}] has no uri and there is no GLB BIN chunk")
+                raise CheckError(f"{path}: buffers[{i}] has no uri and there is no GLB BIN chunk")
             buffers.append(glb_bin)
         elif not isinstance(uri, str):
-            raise GltfError(f"{path}: buffers[{i}].uri must be a string")
+            raise CheckError(f"{path}: buffers[{i}].uri must be a string")
         elif uri.startswith("data:"):
             try:
                 buffers.append(base64.b64decode(uri.split(",", 1)[1]))
             except (IndexError, ValueError):
-                raise GltfError(f"{path}: buffers[{i}]: a data: uri that is not base64")
+                raise CheckError(f"{path}: buffers[{i}]: a data: uri that is not base64")
         else:
             f = p.parent / urllib.parse.unquote(uri)
             if not f.is_file():
-                raise GltfError(f"{path}: buffers[{i}]: buffer file '{uri}' is missing")
+                raise CheckError(f"{path}: buffers[{i}]: buffer file '{uri}' is missing")
             buffers.append(f.read_bytes())
     return doc, buffers, glb_bin
 
@@ -183,5 +183,5 @@ def world_triangles(doc, buffers, world):
             mat = prim.get("material", -1)
             for a, b, c in triangle_indices(idx, mode):
                 if max(a, b, c) >= len(pos):
-                    raise GltfError(f"meshes[{n['mesh']}]: index out of range")
+                    raise CheckError(f"meshes[{n['mesh']}]: index out of range")
                 yield pos[a], pos[b], pos[c], mat

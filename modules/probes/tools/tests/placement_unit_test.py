@@ -17,7 +17,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))
 import placement_scene  # noqa: E402
-import speculum_probes as sp  # noqa: E402
+import speculum_probes as sp  # noqa: E402  (the command line; it puts tools/ on sys.path)
+from placement import candidates as cand, edit, loop, scene  # noqa: E402
+from speculum_py.enums import PROBE_EXT  # noqa: E402
 
 SPHERE_C, SPHERE_R = (0.0, 0.6, -0.6), 0.6
 
@@ -28,11 +30,11 @@ class Scene(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.dir = Path(cls.tmp.name)
         cls.path = placement_scene.write_scene(cls.dir / "scene")
-        cls.doc, cls.buffers, _ = sp.load_document(cls.path)
-        cls.geo = sp.Geometry(cls.doc, cls.buffers, str(cls.path))
-        cls.views = sp.cameras(cls.doc)
-        cls.samples, cls.sky = sp.reflection_samples(cls.geo, cls.doc, cls.views, (160, 90), grid=32)
-        cls.cands = sp.candidates(cls.geo, cls.samples, max_candidates=10)
+        cls.doc, cls.buffers, _ = scene.load_document(cls.path)
+        cls.geo = scene.Geometry(cls.doc, cls.buffers, str(cls.path))
+        cls.views = scene.cameras(cls.doc)
+        cls.samples, cls.sky = cand.reflection_samples(cls.geo, cls.doc, cls.views, (160, 90), grid=32)
+        cls.cands = cand.candidates(cls.geo, cls.samples, max_candidates=10)
 
     @classmethod
     def tearDownClass(cls):
@@ -41,7 +43,7 @@ class Scene(unittest.TestCase):
 
 class Candidates(Scene):
     def test_material_weights(self):
-        w = sp.material_weight
+        w = scene.material_weight
         self.assertEqual(w({"extensions": {"KHR_materials_unlit": {}}}), 0.0)
         self.assertEqual(w({"extensions": {"SPECULUM_reflections": {"mode": "off"}}}), 0.0)
         self.assertEqual(w({"extensions": {"SPECULUM_reflections": {"traceCmos": False}}}), 0.0)
@@ -67,7 +69,7 @@ class Candidates(Scene):
     def test_samples_hit_the_reflectors(self):
         self.assertGreater(len(self.samples), 100)
         self.assertEqual(self.sky, 0.0, "a closed room reflects no sky")
-        on_sphere = [s for s in self.samples if abs(sp.dist(s["p"], SPHERE_C) - SPHERE_R) < 0.02]
+        on_sphere = [s for s in self.samples if abs(scene.dist(s["p"], SPHERE_C) - SPHERE_R) < 0.02]
         self.assertTrue(on_sphere, "the chrome sphere is sampled")
         self.assertGreater(max(s["w"] for s in on_sphere), max(s["w"] for s in self.samples if s["p"][1] < 1e-3),
                            "chrome weighs more than the glossy floor")
@@ -78,16 +80,16 @@ class Candidates(Scene):
         for c in self.cands:
             p = c["pos"]
             self.assertTrue(all(-3.0 < p[k] < 3.0 for k in (0, 2)) and 0.0 < p[1] < 3.0, f"outside the room: {p}")
-            self.assertGreater(sp.dist(p, SPHERE_C), SPHERE_R + 0.02, f"inside or on the sphere: {p}")
+            self.assertGreater(scene.dist(p, SPHERE_C), SPHERE_R + 0.02, f"inside or on the sphere: {p}")
             self.assertGreater(p[1], 0.02, f"on the floor: {p}")
             self.assertFalse(self.geo.inside(p))
-            gap = sp.dist(p, c["surface"])
+            gap = scene.dist(p, c["surface"])
             self.assertTrue(0.0 < gap <= offset * 1.0001, f"offset {gap} from its reflector")
             self.assertGreater(c["area"], 0.0)
             self.assertGreater(c["radius"], 0.0)
         for i, a in enumerate(self.cands):
             for b in self.cands[i + 1:]:
-                self.assertGreaterEqual(sp.dist(a["pos"], b["pos"]), offset * 0.999, "candidates not spread apart")
+                self.assertGreaterEqual(scene.dist(a["pos"], b["pos"]), offset * 0.999, "candidates not spread apart")
         # ranked by a greedy cover: the first sees at least as much as any other
         self.assertEqual([c["rank"] for c in self.cands], list(range(len(self.cands))))
         self.assertGreaterEqual(self.cands[0]["area"], max(c["area"] for c in self.cands) - 1e-9)
@@ -96,13 +98,13 @@ class Candidates(Scene):
 
     def test_place_off_surface_refuses_inside_and_cramped(self):
         # from the sphere's top along the inward normal: the point would be inside the sphere
-        self.assertIsNone(sp.place_off_surface(self.geo, (0.0, 1.2, -0.6), (0.0, -1.0, 0.0), 0.3, 0.05))
+        self.assertIsNone(cand.place_off_surface(self.geo, (0.0, 1.2, -0.6), (0.0, -1.0, 0.0), 0.3, 0.05))
         # from the floor toward the sphere 0.02 m above it: too cramped
-        self.assertIsNone(sp.place_off_surface(self.geo, (0.0, -0.02, -0.6), (0.0, 1.0, 0.0), 0.3, 0.05))
-        c = sp.place_off_surface(self.geo, (2.0, 0.0, 2.0), (0.0, 1.0, 0.0), 0.3, 0.05)
+        self.assertIsNone(cand.place_off_surface(self.geo, (0.0, -0.02, -0.6), (0.0, 1.0, 0.0), 0.3, 0.05))
+        c = cand.place_off_surface(self.geo, (2.0, 0.0, 2.0), (0.0, 1.0, 0.0), 0.3, 0.05)
         self.assertAlmostEqual(c[1], 0.3, places=6)
         # toward a wall 0.2 m away: shortened to half the gap, off the wall
-        c = sp.place_off_surface(self.geo, (2.8, 0.5, 0.0), (1.0, 0.0, 0.0), 0.5, 0.05)
+        c = cand.place_off_surface(self.geo, (2.8, 0.5, 0.0), (1.0, 0.0, 0.0), 0.5, 0.05)
         self.assertIsNotNone(c)
         self.assertLess(c[0], 3.0 - 0.05)
 
@@ -113,7 +115,7 @@ class Edit(Scene):
 
     def test_nodes_appended_unknown_content_kept(self):
         before = json.loads(json.dumps(self.doc))
-        out = sp.edited_document(self.doc, self.CMOS, str(self.path.parent), str(self.path.parent))
+        out = edit.edited_document(self.doc, self.CMOS, str(self.path.parent), str(self.path.parent))
         self.assertEqual(self.doc, before, "the source document is not modified")
         n = len(before["nodes"])
         self.assertEqual(out["nodes"][:n], before["nodes"])
@@ -121,41 +123,41 @@ class Edit(Scene):
         roots = out["scenes"][out.get("scene", 0)]["nodes"]
         self.assertEqual(roots[:-2], before["scenes"][0]["nodes"])
         self.assertEqual(roots[-2:], [n, n + 1])
-        e = out["nodes"][n]["extensions"][sp.PROBE_EXT]
+        e = out["nodes"][n]["extensions"][PROBE_EXT]
         self.assertEqual(e, {"kind": "cmo", "resolution": 64, "order": 1, "update": "once", "shape": "sphere",
                              "extents": [2.5, 2.5, 2.5], "blendDistance": 0.0})
-        self.assertTrue(all(x > 0 for x in out["nodes"][n + 1]["extensions"][sp.PROBE_EXT]["extents"]))
+        self.assertTrue(all(x > 0 for x in out["nodes"][n + 1]["extensions"][PROBE_EXT]["extents"]))
         self.assertEqual(out["extensions"][placement_scene.UNKNOWN_EXT], before["extensions"][placement_scene.UNKNOWN_EXT])
         self.assertEqual(out["extras"], {"author": "placement test"})
         self.assertIn(placement_scene.UNKNOWN_EXT, out["extensionsUsed"])
-        self.assertEqual(out["extensionsUsed"].count(sp.PROBE_EXT), 1)
+        self.assertEqual(out["extensionsUsed"].count(PROBE_EXT), 1)
         for key in before:
             if key not in ("nodes", "scenes", "extensionsUsed"):
                 self.assertEqual(out[key], before[key], key)
         # again on its own output: the extension is listed once, names do not clash
-        again = sp.edited_document(out, self.CMOS[:1], str(self.path.parent), str(self.path.parent))
-        self.assertEqual(again["extensionsUsed"].count(sp.PROBE_EXT), 1)
+        again = edit.edited_document(out, self.CMOS[:1], str(self.path.parent), str(self.path.parent))
+        self.assertEqual(again["extensionsUsed"].count(PROBE_EXT), 1)
         self.assertEqual(again["nodes"][-1]["name"], "cmo.2")
 
     def test_file_references_follow_the_output(self):
         other = self.dir / "elsewhere" / "deeper"
         other.mkdir(parents=True, exist_ok=True)
-        out = sp.edited_document(self.doc, self.CMOS, str(self.path.parent), str(other))
+        out = edit.edited_document(self.doc, self.CMOS, str(self.path.parent), str(other))
         bin_uri = out["buffers"][0]["uri"]
         self.assertEqual(bin_uri, "../../scene/placement_room.bin")
         self.assertTrue((other / bin_uri).resolve() == (self.path.parent / self.doc["buffers"][0]["uri"]).resolve())
         env = out["scenes"][0]["extras"]["environment"]
         self.assertTrue(os.path.isfile(os.path.join(str(other), env)), env)
-        same = sp.edited_document(self.doc, [], str(self.path.parent), str(self.path.parent))
+        same = edit.edited_document(self.doc, [], str(self.path.parent), str(self.path.parent))
         self.assertEqual(same, self.doc, "no CMO and the same folder: the document is unchanged")
-        self.assertEqual(sp.relocate_uri("a%20b.bin", "/x/s", "/x/t"), "../s/a%20b.bin")
-        self.assertEqual(sp.relocate_uri("data:application/octet-stream;base64,AAAA", "/x", "/y"),
+        self.assertEqual(edit.relocate_uri("a%20b.bin", "/x/s", "/x/t"), "../s/a%20b.bin")
+        self.assertEqual(edit.relocate_uri("data:application/octet-stream;base64,AAAA", "/x", "/y"),
                          "data:application/octet-stream;base64,AAAA")
 
     def test_write_atomic(self):
         target = self.dir / "atomic.gltf"
-        sp.write_atomic(target, text="{}\n")
-        sp.write_atomic(target, text='{"a": 1}\n')
+        edit.write_atomic(target, text="{}\n")
+        edit.write_atomic(target, text='{"a": 1}\n')
         self.assertEqual(json.loads(target.read_text()), {"a": 1})
         self.assertEqual([p.name for p in self.dir.iterdir() if p.name.startswith(".atomic")], [])
 
@@ -237,8 +239,8 @@ class Loop(Scene):
                 mean = 10.0 + sum(gains.get(c["rank"], 0.3) * factor[c["res"]] for c in cmos)
                 return {"mean": mean, "per_view": {"main": mean}, "ms": 1.0 + len(cmos), "seconds": 0.0}
 
-        real_m, real_p = sp.Measurer, sp.probe_capture
-        sp.Measurer, sp.probe_capture = FakeMeasurer, lambda *a: None
+        real_m, real_p = loop.Measurer, sp.probe_capture
+        loop.Measurer, sp.probe_capture = FakeMeasurer, lambda *a: None
         out = self.dir / f"loop{budget}.gltf"
         try:
             with contextlib.redirect_stdout(io.StringIO()) as log:
@@ -247,7 +249,7 @@ class Loop(Scene):
                                 "--max-cmos", str(max_cmos), "--tries", str(tries), "--move-tries", "0",
                                 "--resolutions", "32,64,128", "--size", "160x90", "--grid", "32"])
         finally:
-            sp.Measurer, sp.probe_capture = real_m, real_p
+            loop.Measurer, sp.probe_capture = real_m, real_p
         report = json.loads(out.with_name(out.stem + ".placement.json").read_text())
         return code, report, json.loads(out.read_text()), log.getvalue()
 
@@ -262,15 +264,15 @@ class Loop(Scene):
         self.assertEqual((by_rank[0]["resolution"], by_rank[1]["resolution"]), (128, 32))
         self.assertGreater(by_rank[0]["order"], by_rank[1]["order"], "the larger contribution is traced first")
         self.assertGreaterEqual(final["mean_psnr_db"], 14.0)
-        nodes = [n for n in doc["nodes"] if sp.PROBE_EXT in n.get("extensions", {})]
-        self.assertEqual(sorted(n["extensions"][sp.PROBE_EXT]["resolution"] for n in nodes), [32, 128])
+        nodes = [n for n in doc["nodes"] if PROBE_EXT in n.get("extensions", {})]
+        self.assertEqual(sorted(n["extensions"][PROBE_EXT]["resolution"] for n in nodes), [32, 128])
         self.assertIn("placement: step 2/", log)
         self.assertIn("budget met", log)
 
     def test_baseline_meets_budget_adds_nothing(self):
         code, rep, doc, log = self.run_loop(9.0)
         self.assertEqual((code, rep["final"]["count"]), (0, 0), log)
-        self.assertNotIn(sp.PROBE_EXT, doc.get("extensionsUsed", []))
+        self.assertNotIn(PROBE_EXT, doc.get("extensionsUsed", []))
 
     def test_unreachable_budget_writes_best_and_fails(self):
         code, rep, doc, log = self.run_loop(30.0, max_cmos=2)
