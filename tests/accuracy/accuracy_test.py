@@ -16,7 +16,6 @@ and at least "min_gain_db" above it on the views listed there. With --scores it 
 methods' scores that the view's own tests wrote (ctest runs those first: a fixture), and
 measures only what is missing.
 """
-import argparse
 import json
 import subprocess
 import sys
@@ -25,6 +24,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "bench"))
 import speculum_bench as bench  # noqa: E402
+from accuracy_args import tool_parser  # noqa: E402
 
 SKIP = 77
 
@@ -128,10 +128,7 @@ def agreement(tools, doc, out, cache):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    for tool in ("capture", "reference", "metrics"):
-        p.add_argument(f"--{tool}", required=True)
-    p.add_argument("--thresholds", default=str(HERE / "thresholds.json"))
+    p = tool_parser()
     p.add_argument("--cache", required=True, help="reference cache (keyed like the bench's)")
     p.add_argument("--out", required=True)
     p.add_argument("--view")

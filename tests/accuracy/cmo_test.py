@@ -14,7 +14,6 @@ curved     cornell_mirrors close views of the curved reflectors: with CMOs (the 
            at least psnr_min on pixels below max_roughness, and at least min_gain_db over the
            chain without CMOs.
 """
-import argparse
 import json
 import subprocess
 import sys
@@ -25,6 +24,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "bench"))
 sys.path.insert(0, str(HERE.parent / "capture"))
 import speculum_bench as bench  # noqa: E402
+from accuracy_args import tool_parser  # noqa: E402
 from stripes_test import load  # noqa: E402
 
 
@@ -141,10 +141,7 @@ def curved(tools, rule, out, cache):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    for tool in ("capture", "reference", "metrics"):
-        p.add_argument(f"--{tool}", required=True)
-    p.add_argument("--thresholds", default=str(HERE / "thresholds.json"))
+    p = tool_parser()
     p.add_argument("--check", choices=("nested", "highlight", "curved"), required=True)
     p.add_argument("--cache", required=True)
     p.add_argument("--out", required=True)

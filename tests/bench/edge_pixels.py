@@ -10,7 +10,7 @@ edge (a neighbour's view depth differs by more than 5%, or its normal by more th
 writes that mask as an image and scores each method's last reflection frame against the cached
 reference on the masked pixels (`speculum-metrics compare --band-image MASK --bands 0.5,1.5`).
 Prints per view and pooled PSNR (dB) on edge pixels and on all reflective pixels."""
-import argparse, json, math, struct, subprocess, sys, tempfile
+import json, math, struct, subprocess, sys, tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -67,54 +67,44 @@ def write_mask(mask, w, h, path, tmp):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--bench-out", required=True); ap.add_argument("--suite", required=True)
-    ap.add_argument("--capture", required=True); ap.add_argument("--reference", required=True)
-    ap.add_argument("--metrics", required=True); ap.add_argument("--cache")
+    ap = bench.rescore_parser()
     ap.add_argument("--methods", default="hiz+probes,half"); ap.add_argument("--radius", type=int, default=2)
     a = ap.parse_args()
-    out = Path(a.bench_out)
-    suite = bench.load_suite(a.suite)
-    cache = Path(a.cache) if a.cache else out / "reference-cache"
-    tools = argparse.Namespace(capture=a.capture, reference=a.reference, metrics=a.metrics)
+    out, suite, tools, views = bench.finished_run(a)
     methods = a.methods.split(",")
     pooled = {}
     print("| view | method | PSNR edge pixels | PSNR all | edge pixels |")
     print("|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        for view in suite["views"]:
-            for size in suite["sizes"]:
-                name = f"{bench.view_name(view)}.{size}"
-                ref_dir, _ = bench.render_reference(tools, view, size, suite["reference"], cache)
-                exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
-                gdir = out / "runs" / f"{name}.edges"
-                mask_file = gdir / "edge_mask.exr"
-                if not mask_file.exists():
-                    gdir.mkdir(parents=True, exist_ok=True)
-                    cmd = [a.capture, "--scene", str(bench.scene_file(view)), *bench.camera_args(view), "--size", size,
-                           "--warmup", "0", "--aov", "depth,normal", "--out", str(gdir)]
-                    if bench.run(cmd, gdir / "log.txt") != 0:
-                        bench.fail(f"depth/normal capture failed for {name}; see {gdir / 'log.txt'}", 1)
-                    w, h, depth = load(str(bench.last_frame(gdir, "depth")), tmp)
-                    _, _, normal = load(str(bench.last_frame(gdir, "normal")), tmp)
-                    write_mask(edge_mask(depth, normal, w, h, a.radius), w, h, mask_file, tmp)
-                for method in methods:
-                    test = bench.last_frame(out / "runs" / f"{name}.{method}", "reflection")
-                    cmd = [a.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
-                           "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test),
-                           "--scale", str(exposure), "--band-image", str(mask_file), "--bands", "0.5,1.5"]
-                    r = subprocess.run(cmd, capture_output=True, text=True)
-                    if r.returncode != 0:
-                        bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
-                    j = json.loads(r.stdout)
-                    e = j["bands"][0]
-                    for key, s in (("edge", e), ("all", j)):
-                        if s["pixels"] and s["psnr_db"] is not None:
-                            acc = pooled.setdefault((method, key), [0.0, 0])
-                            acc[0] += 10 ** (-s["psnr_db"] / 10) * s["pixels"]
-                            acc[1] += s["pixels"]
-                    print(f"| {name} | {method} | {e['psnr_db'] or float('nan'):.2f} | {j['psnr_db']:.2f} | {e['pixels']} |",
-                          flush=True)
+        for view, size, name, ref_dir, exposure in views:
+            gdir = out / "runs" / f"{name}.edges"
+            mask_file = gdir / "edge_mask.exr"
+            if not mask_file.exists():
+                gdir.mkdir(parents=True, exist_ok=True)
+                cmd = [a.capture, "--scene", str(bench.scene_file(view)), *bench.camera_args(view), "--size", size,
+                       "--warmup", "0", "--aov", "depth,normal", "--out", str(gdir)]
+                if bench.run(cmd, gdir / "log.txt") != 0:
+                    bench.fail(f"depth/normal capture failed for {name}; see {gdir / 'log.txt'}", 1)
+                w, h, depth = load(str(bench.last_frame(gdir, "depth")), tmp)
+                _, _, normal = load(str(bench.last_frame(gdir, "normal")), tmp)
+                write_mask(edge_mask(depth, normal, w, h, a.radius), w, h, mask_file, tmp)
+            for method in methods:
+                test = bench.last_frame(out / "runs" / f"{name}.{method}", "reflection")
+                cmd = [a.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
+                       "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test),
+                       "--scale", str(exposure), "--band-image", str(mask_file), "--bands", "0.5,1.5"]
+                r = subprocess.run(cmd, capture_output=True, text=True)
+                if r.returncode != 0:
+                    bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
+                j = json.loads(r.stdout)
+                e = j["bands"][0]
+                for key, s in (("edge", e), ("all", j)):
+                    if s["pixels"] and s["psnr_db"] is not None:
+                        acc = pooled.setdefault((method, key), [0.0, 0])
+                        acc[0] += 10 ** (-s["psnr_db"] / 10) * s["pixels"]
+                        acc[1] += s["pixels"]
+                print(f"| {name} | {method} | {e['psnr_db'] or float('nan'):.2f} | {j['psnr_db']:.2f} | {e['pixels']} |",
+                      flush=True)
     for method in methods:
         cells = []
         for key in ("edge", "all"):

@@ -10,7 +10,7 @@ perceptual roughness: the same for every method), then scores each method's last
 frame of DIR/runs against the cached reference per band with `speculum-metrics compare
 --band-image`. Prints a markdown table: PSNR (dB) per band and method, pooled over views by
 squared error (pixels weigh equally), and the method's mean reflection ms from DIR/results.json."""
-import argparse, json, math, subprocess, sys
+import json, math, subprocess, sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -18,47 +18,37 @@ import speculum_bench as bench  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--bench-out", required=True); ap.add_argument("--suite", required=True)
-    ap.add_argument("--capture", required=True); ap.add_argument("--reference", required=True)
-    ap.add_argument("--metrics", required=True); ap.add_argument("--cache")
+    ap = bench.rescore_parser()
     ap.add_argument("--bands", default="0,0.05,0.2,0.4,1.01")
     a = ap.parse_args()
-    out = Path(a.bench_out)
-    suite = bench.load_suite(a.suite)
-    cache = Path(a.cache) if a.cache else out / "reference-cache"
-    tools = argparse.Namespace(capture=a.capture, reference=a.reference, metrics=a.metrics)
+    out, suite, tools, views = bench.finished_run(a)
     edges = [float(x) for x in a.bands.split(",")]
     pooled = {}  # (method, band) -> [squared error sum, pixel count]
-    for view in suite["views"]:
-        for size in suite["sizes"]:
-            name = f"{bench.view_name(view)}.{size}"
-            ref_dir, _ = bench.render_reference(tools, view, size, suite["reference"], cache)
-            exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
-            rough_dir = out / "runs" / f"{name}.roughness"
-            if not list(rough_dir.glob("roughness.*.exr")):
-                cmd = [a.capture, "--scene", str(bench.scene_file(view)), *bench.camera_args(view), "--size", size,
-                       "--warmup", "0", "--aov", "roughness", "--out", str(rough_dir)]
-                rough_dir.mkdir(parents=True, exist_ok=True)
-                if bench.run(cmd, rough_dir / "log.txt") != 0:
-                    bench.fail(f"roughness capture failed for {name}; see {rough_dir / 'log.txt'}", 1)
-            rough = bench.last_frame(rough_dir, "roughness")
-            for method in suite["methods"]:
-                run_dir = out / "runs" / f"{name}.{method}"
-                test = bench.last_frame(run_dir, "reflection")
-                cmd = [a.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
-                       "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test),
-                       "--scale", str(exposure), "--band-image", str(rough), "--bands", a.bands]
-                r = subprocess.run(cmd, capture_output=True, text=True)
-                if r.returncode != 0:
-                    bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
-                for i, b in enumerate(json.loads(r.stdout)["bands"]):
-                    if b["pixels"] and b["psnr_db"] is not None:
-                        mse = 10 ** (-b["psnr_db"] / 10)
-                        acc = pooled.setdefault((method, i), [0.0, 0])
-                        acc[0] += mse * b["pixels"]
-                        acc[1] += b["pixels"]
-            print(f"{name}: scored", file=sys.stderr, flush=True)
+    for view, size, name, ref_dir, exposure in views:
+        rough_dir = out / "runs" / f"{name}.roughness"
+        if not list(rough_dir.glob("roughness.*.exr")):
+            cmd = [a.capture, "--scene", str(bench.scene_file(view)), *bench.camera_args(view), "--size", size,
+                   "--warmup", "0", "--aov", "roughness", "--out", str(rough_dir)]
+            rough_dir.mkdir(parents=True, exist_ok=True)
+            if bench.run(cmd, rough_dir / "log.txt") != 0:
+                bench.fail(f"roughness capture failed for {name}; see {rough_dir / 'log.txt'}", 1)
+        rough = bench.last_frame(rough_dir, "roughness")
+        for method in suite["methods"]:
+            run_dir = out / "runs" / f"{name}.{method}"
+            test = bench.last_frame(run_dir, "reflection")
+            cmd = [a.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
+                   "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test),
+                   "--scale", str(exposure), "--band-image", str(rough), "--bands", a.bands]
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode != 0:
+                bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
+            for i, b in enumerate(json.loads(r.stdout)["bands"]):
+                if b["pixels"] and b["psnr_db"] is not None:
+                    mse = 10 ** (-b["psnr_db"] / 10)
+                    acc = pooled.setdefault((method, i), [0.0, 0])
+                    acc[0] += mse * b["pixels"]
+                    acc[1] += b["pixels"]
+        print(f"{name}: scored", file=sys.stderr, flush=True)
     rows = json.loads((out / "results.json").read_text())["rows"]
     ms = {m: sum(r["reflection_ms"] for r in rows if r["method"] == m) / max(1, sum(1 for r in rows if r["method"] == m))
           for m in suite["methods"]}

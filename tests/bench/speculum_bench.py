@@ -199,18 +199,53 @@ def stability(tools, suite, methods, aov, out, cache, progress_step):
         if view["file"] is None:
             del view["file"]
         size = entry.get("size", "320x180")
-        progress_step(f"reference {view_name(view)} {size}")
-        ref_dir, _ = render_reference(tools, view, size, suite["reference"], cache)
-        info = json.loads((ref_dir / "reference.json").read_text())
-        for method, sets in methods.items():
-            progress_step(f"capture {view_name(view)} {size} {method}")
-            run_dir = out / "runs" / f"{view_name(view)}.{size}.{method}"
+        for ref_dir, _, info, method, sets, run_dir in each_method(
+                tools, view, size, suite, cache, methods, progress_step, f"{view_name(view)} {size}",
+                out / "runs" / f"{view_name(view)}.{size}"):
             _, refl_ms, frame_ms, _ = capture(tools, view, size, sets, aov, suite, run_dir)
             rows.append({"scene": view["scene"], "path": view["path"], "size": size, "method": method,
                          "frames": len(info["frames"]), "reflection_ms": refl_ms,
                          "excess_flicker": flicker(tools, run_dir, ref_dir, aov, len(info["frames"]),
                                                    info["exposure"])})
     return rows
+
+
+def each_method(tools, view, size, suite, cache, methods, progress_step, label, runs):
+    """The view's reference (rendered or cached) and then, for each method, where its run goes:
+    the bench and the flicker rows walk views the same way and report progress alike."""
+    progress_step(f"reference {label}")
+    ref_dir, cached = render_reference(tools, view, size, suite["reference"], cache)
+    info = json.loads((ref_dir / "reference.json").read_text())
+    for method, sets in methods.items():
+        progress_step(f"capture {label} {method}")
+        yield ref_dir, cached, info, method, sets, Path(f"{runs}.{method}")
+
+
+def rescore_parser():
+    """The arguments of the scripts that re-score a finished bench run (edge_pixels.py,
+    roughness_bands.py): the run, its suite and this build's tools."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bench-out", required=True); ap.add_argument("--suite", required=True)
+    ap.add_argument("--capture", required=True); ap.add_argument("--reference", required=True)
+    ap.add_argument("--metrics", required=True); ap.add_argument("--cache")
+    return ap
+
+
+def finished_run(a):
+    """(out, suite, tools) and each (view, size, name, reference folder, exposure) of the finished
+    run that rescore_parser's arguments name; the references come from the run's cache."""
+    out = Path(a.bench_out)
+    suite = load_suite(a.suite)
+    cache = Path(a.cache) if a.cache else out / "reference-cache"
+    tools = argparse.Namespace(capture=a.capture, reference=a.reference, metrics=a.metrics)
+
+    def views():
+        for view in suite["views"]:
+            for size in suite["sizes"]:
+                ref_dir, _ = render_reference(tools, view, size, suite["reference"], cache)
+                exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
+                yield view, size, f"{view_name(view)}.{size}", ref_dir, exposure
+    return out, suite, tools, views()
 
 
 def progress(i, n, label, start):
@@ -241,12 +276,8 @@ def bench(args, tools):
 
     for view, size in jobs:
         name = f"{view_name(view)}.{size}"
-        progress_step(f"reference {name}")
-        ref_dir, cached = render_reference(tools, view, size, suite["reference"], cache)
-        ref_info = json.loads((ref_dir / "reference.json").read_text())
-        for method, sets in methods.items():
-            progress_step(f"capture {name} {method}")
-            run_dir = out / "runs" / f"{name}.{method}"
+        for ref_dir, cached, ref_info, method, sets, run_dir in each_method(
+                tools, view, size, suite, cache, methods, progress_step, name, out / "runs" / name):
             image, refl_ms, frame_ms, device = capture(tools, view, size, sets, aov, suite, run_dir)
             m = score(tools, image, ref_dir, aov, ref_info["exposure"], out / "heatmaps" / f"{name}.{method}.png")
             rows.append({"scene": view["scene"], "camera": view["camera"], "size": size, "method": method,
