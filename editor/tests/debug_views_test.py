@@ -12,7 +12,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from editor_test_support import copy_gallery  # noqa: E402
+from editor_test_support import copy_gallery, run_script  # noqa: E402
 
 
 def fail(msg):
@@ -36,13 +36,7 @@ def main():
               {"action": "quit"}]
     path = os.path.join(out, "script.json")
     json.dump(script, open(path, "w"))
-    r = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", editor, "--scene", scene, "--script", path],
-                       capture_output=True, text=True, timeout=900)
-    log = r.stdout + r.stderr
-    open(os.path.join(out, "editor.log"), "w").write(log)
-    if r.returncode != 0:
-        print(log[-3000:])
-        fail("the editor exited %d" % r.returncode)
+    log = run_script(editor, scene, path, out, 3000)
     shots = re.findall(r"written to (\S+/views/(\S+)\.(\S+)\.png)", log)
     names = ["%s.%s" % (m, v) for _, m, v in shots]
     for want in ("reflections.none", "reflections.method", "reflections.coverage", "probes.influence", "probes.winner"):

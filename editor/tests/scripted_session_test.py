@@ -19,6 +19,8 @@ import shutil
 import subprocess
 import sys
 
+from editor_test_support import run_script  # the script's folder is on sys.path
+
 
 def fail(msg):
     print("FAIL: " + msg)
@@ -59,13 +61,7 @@ def main():
     script_file = os.path.join(out, "script.json")
     json.dump(script, open(script_file, "w"), indent=1)
     env = dict(os.environ, SPECULUM_VALIDATION="1")
-    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", editor, "--scene", scene,
-                          "--script", script_file], capture_output=True, text=True, env=env, timeout=900)
-    log = run.stdout + run.stderr
-    open(os.path.join(out, "editor.log"), "w").write(log)
-    if run.returncode != 0:
-        print(log[-4000:])
-        fail("the editor exited %d" % run.returncode)
+    log = run_script(editor, scene, script_file, out, 4000, env)
 
     picked = re.search(r"picked chrome_sphere at (\S+ \S+ \S+) normal (\S+ \S+ \S+)", log)
     added = re.search(r"added (\S+) at (\S+ \S+ \S+)", log)

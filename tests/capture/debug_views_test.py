@@ -16,6 +16,7 @@ import json, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stripes_test import load  # noqa: E402
+from capture_verdict import verdict  # noqa: E402
 
 SIZE = (320, 180)
 MAX_ITERATIONS = 96  # reflections.max_iterations' default (modules/reflections/settings.cpp)
@@ -127,10 +128,7 @@ def main():
                      f"{tuple(round(v, 4) for v in first[3])}" if first else ""))
             if wrong > allowed:
                 failures.append(view)
-    if failures:
-        print("debug views wrong: " + ", ".join(failures), file=sys.stderr)
-        return 1
-    return 0
+    return verdict(failures, "debug views wrong: ")
 
 
 if __name__ == "__main__":

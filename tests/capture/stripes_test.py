@@ -29,6 +29,8 @@ With the environment variable STRIPES_SET="key=value ..." every capture gets tho
 usage: stripes_test.py CAPTURE REFERENCE SCENE OUTDIR [--trace hiz,linear]"""
 import os, struct, subprocess, sys, tempfile
 
+from capture_verdict import verdict  # the script's folder is on sys.path
+
 SIZES = [(320, 180), (317, 181), (641, 359), (400, 300), (333, 187)]
 MIN_PIXELS = 32
 RATIO = 2.0
@@ -138,10 +140,7 @@ def main():
                       f"{'' if ok else '  FAIL'}", flush=True)
                 if not ok:
                     failures.append(f"{tag} ({trace})")
-    if failures:
-        print("row or column structure in the reflection error at " + ", ".join(failures), file=sys.stderr)
-        return 1
-    return 0
+    return verdict(failures, "row or column structure in the reflection error at ")
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ import os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stripes_test import load  # noqa: E402
+from capture_verdict import verdict  # noqa: E402
 
 W, H = 320, 180
 
@@ -68,10 +69,7 @@ def main():
         print(f"camera fade over 0.999 .. 1: {c}")
         check(c["traced"] <= d["traced"] // 100, "rays the camera fade zeroes are not traced")
         check(c["covered_untraced"] == 0, "no untraced pixel has screen-space coverage")
-    if failures:
-        print("trace fades wrong: " + "; ".join(failures), file=sys.stderr)
-        return 1
-    return 0
+    return verdict(failures, "trace fades wrong: ", "; ")
 
 
 if __name__ == "__main__":
