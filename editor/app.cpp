@@ -7,7 +7,6 @@
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/resources.hpp"
-#include "speculum/reflections/hook.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -48,7 +47,8 @@ EditorApp::EditorApp(const Options& options, Document document) : options_(optio
     app::checkSceneFitsDevice(*ctx_, doc_.scene());
     swapchain_ = std::make_unique<app::Swapchain>(*ctx_, *window_);
     viewport_ = std::make_unique<Viewport>(*ctx_, doc_);
-    ui_ = std::make_unique<UiLayer>(*ctx_, window_->handle(), swapchain_->format(), swapchain_->imageCount());
+    ui_ = std::make_unique<ui::UiLayer>(*ctx_, window_->handle(), swapchain_->format(), swapchain_->imageCount());
+    panels_ = std::make_unique<PanelCache>(*ui_);
     ImGui::GetStyle().WindowRounding = 0.0f;
     if (!options.script.empty()) script_ = Script::load(options.script);
     camera_.reset(doc_.scene());
@@ -70,6 +70,7 @@ EditorApp::EditorApp(const Options& options, Document document) : options_(optio
 EditorApp::~EditorApp() {
     if (ctx_) vkDeviceWaitIdle(ctx_->device());
     // ImGui's backend before the swapchain and the device it draws with.
+    panels_.reset();
     ui_.reset();
     viewport_.reset();
     swapchain_.reset();
@@ -347,7 +348,7 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
             // Every debug view of every hosted module (what the Debug view menu lists), one frame
             // and one viewport picture each, then back to none.
             std::filesystem::path dir = a["each_debug_view"].get<std::string>();
-            for (const app::ModuleInfo& m : hostedModules()) {
+            for (const app::ModuleInfo& m : chain::moduleInfos()) {
                 if (m.debugViewSetting.empty()) continue;
                 std::vector<std::string> views = app::debugViews(m);
                 for (size_t i = 0; i < views.size(); ++i)
@@ -476,8 +477,8 @@ void EditorApp::addPresentPasses(FrameGraph& g, TextureHandle color, const gpu::
     const float viewRect[4] = {x0, y0,
                                float(std::clamp(int32_t(rect.x + rect.w), int32_t(x0) + 1, int32_t(extent.width))) - x0,
                                float(std::clamp(int32_t(rect.y + rect.h), int32_t(y0) + 1, int32_t(extent.height))) - y0};
-    TextureHandle panels = ui_->addPanels(g, target, extent, viewRect);
-    TextureHandle shown = ui_->addOverlays(g, panels, color, viewRect);
+    TextureHandle panels = panels_->addPanels(g, target, extent, viewRect);
+    TextureHandle shown = panels_->addOverlays(g, panels, color, viewRect);
     if (windowShot) {
         // The whole window as presented (panels included), for the README's picture.
         struct Copy {
@@ -519,7 +520,7 @@ void EditorApp::writeWindowShot(const gpu::Buffer& shot, VkExtent2D extent) {
 
 void EditorApp::renderFrame() {
     viewport_->sync();
-    if (reflections::probesInUse(doc_.settings())) bakeWithProgress();
+    if (chain::probesInUse(doc_.settings())) bakeWithProgress();
     if (!swapchain_->acquire()) return;
     bool full = !interacting_ || !screenshotPath_.empty();
     scale_ = full ? 1.0f : kInteractiveScales[interactiveStep_];
@@ -612,7 +613,7 @@ void EditorApp::measureStep() {
     } else {
         measureUi_.clear();
         measureWall_.clear();
-        measureCached_ = ui_->cachedFrames();
+        measureCached_ = panels_->cachedFrames();
     }
     measureLast_ = now;
     if (--measureLeft_ == 0) {
@@ -630,7 +631,7 @@ void EditorApp::measureStep() {
             uint32_t(std::lround(view_.w * scale_)), uint32_t(std::lround(view_.h * scale_)), gpuMs_, uiMs_);
         std::printf("speculum-editor:   UI (editor.ui* passes + ImGui's CPU) per frame: median %.2f ms = %.1f%% of "
                     "the median %.1f ms frame (mean %.2f ms); panels from the cache on %zu of %d frames\n",
-                    ui, 100.0 * ui / std::max(wall, 1e-9), wall, uiMean, ui_->cachedFrames() - measureCached_,
+                    ui, 100.0 * ui / std::max(wall, 1e-9), wall, uiMean, panels_->cachedFrames() - measureCached_,
                     measureFrames_);
         for (const app::PassTime& p : passTimes_)
             if (p.name.rfind("editor.", 0) == 0)
@@ -722,13 +723,13 @@ int EditorApp::loop() {
 int run(const Options& options) {
     if (!app::displayAvailable()) {
         std::cerr << "speculum-editor: no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable); the editor "
-                     "needs a window. Work headless with build/engine/speculum-capture --scene "
+                     "needs a window. Work headless with build/tools/capture/speculum-capture --scene "
                   << options.scene.string() << " --out out/ (or run the editor under xvfb-run)\n";
         return 1;
     }
     // The scene and the script are checked before any window opens: a bad file is exit 3 with
     // the loader's message.
-    std::vector<SettingDesc> table = app::settingsOf(app::engineSettingsTable(), hostedModules());
+    std::vector<SettingDesc> table = app::settingsOf(app::engineSettingsTable(), chain::moduleInfos());
     Document doc = Document::open(options.scene, table);
     if (!options.script.empty()) Script::load(options.script);
     EditorApp editor(options, std::move(doc));

@@ -5,7 +5,7 @@
 #include "camera.hpp"
 #include "document.hpp"
 #include "script.hpp"
-#include "ui_layer.hpp"
+#include "panel_cache.hpp"
 #include "viewport.hpp"
 
 #include "speculum/app/window.hpp"
@@ -108,7 +108,8 @@ private:
     std::unique_ptr<app::Swapchain> swapchain_;
     Document doc_;
     std::unique_ptr<Viewport> viewport_;
-    std::unique_ptr<UiLayer> ui_;
+    std::unique_ptr<ui::UiLayer> ui_;
+    std::unique_ptr<PanelCache> panels_;  // over ui_: destroyed first
     Script script_;
     EditorCamera camera_;
 
@@ -139,7 +140,7 @@ private:
     std::vector<app::PassTime> passTimes_;
     double gpuMs_ = 0.0, uiMs_ = 0.0, uiCpuMs_ = 0.0;
     // What the frame-graph panel shows, refreshed once a second: numbers that change every frame
-    // would redraw the cached panels every frame (ui_layer.hpp).
+    // would redraw the cached panels every frame (panel_cache.hpp).
     std::vector<app::PassTime> shownPasses_;
     double shownGpuMs_ = 0.0, shownUiMs_ = 0.0;
     std::chrono::steady_clock::time_point shownAt_{};

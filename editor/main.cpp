@@ -3,6 +3,7 @@
 #include "app.hpp"
 
 #include "speculum/app/camera_flags.hpp"
+#include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
 
 #include <CLI/CLI.hpp>
@@ -22,12 +23,7 @@ int main(int argc, char** argv) {
     cli.add_option("--size", size, "window size WxH (default 1280x720)");
     cli.add_option("--recover", o.recover, "a newer autosave on start: ask (a dialog), yes (load it), no")
         ->check(CLI::IsMember({"ask", "yes", "no"}));
-    try {
-        cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return cli.exit(e) == 0 ? 0 : static_cast<int>(ExitCode::BadArguments);
-    }
-    try {
+    return app::toolMain("speculum-editor", cli, argc, argv, [&] {
         if (script.empty() && cli.count("--script")) throw argumentError("--script needs a file name, got \"\"");
         o.scene = scene;
         o.script = script;
@@ -35,11 +31,5 @@ int main(int argc, char** argv) {
         o.width = w;
         o.height = h;
         return editor::run(o);
-    } catch (const Error& e) {
-        std::cerr << "speculum-editor: " << e.what() << "\n";
-        return static_cast<int>(e.code());
-    } catch (const std::exception& e) {
-        std::cerr << "speculum-editor: internal error: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }

@@ -65,7 +65,7 @@ void EditorApp::drawMenuBar() {
     }
     if (ImGui::BeginMenu("Debug view")) {
         // Every module's debug views, from what it registered (ModuleInfo::debugViewSetting).
-        for (const app::ModuleInfo& m : hostedModules()) {
+        for (const app::ModuleInfo& m : chain::moduleInfos()) {
             if (m.debugViewSetting.empty() || !ImGui::BeginMenu(m.name.c_str())) continue;
             std::vector<std::string> views = app::debugViews(m);
             int current = doc_.settings().getInt(m.debugViewSetting);

@@ -2,7 +2,6 @@
 
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/core.hpp"
-#include "speculum/reflections/hook.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,10 +14,6 @@ app::ModuleInfo editorModuleInfo() {
     info.name = "editor";
     info.aovs = {{"pick", "G-buffer emissive.a: material flags | material index << 2 (the viewport's pick)"}};
     return info;
-}
-
-std::vector<app::ModuleInfo> hostedModules() {
-    return {probes::moduleInfo(), reflections::moduleInfo()};
 }
 
 Viewport::Viewport(const gpu::Context& ctx, Document& document) : ctx_(ctx), doc_(document) {
@@ -35,14 +30,12 @@ void Viewport::rebuild() {
     vkDeviceWaitIdle(ctx_.device());
     // Reverse order of construction: each one holds a reference to the renderer.
     runner_.reset();
-    reflections_.reset();
-    probes_.reset();
+    chain_.reset();
     renderer_.reset();
     render::RendererOptions options;
     app::applyRenderSettings(doc_.settings(), options);
     renderer_ = std::make_unique<render::Renderer>(ctx_, doc_.scene(), options);
-    probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, probes::ProbeSettings::from(doc_.settings()));
-    reflections_ = std::make_unique<reflections::Reflections>(ctx_, *renderer_);
+    chain_ = std::make_unique<chain::Chain>(ctx_, *renderer_, doc_.settings());
     runner_ = std::make_unique<app::FrameRunner>(ctx_, *renderer_, width_, height_);
     first_ = true;
     bakePending_ = true;
@@ -73,18 +66,15 @@ void Viewport::sync() {
         // bounces, as a fresh start bakes them) since they captured the old materials.
         vkDeviceWaitIdle(ctx_.device());
         renderer_->updateMaterialFactors();
-        reflections_.reset();
-        probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, probes::ProbeSettings::from(doc_.settings()));
-        reflections_ = std::make_unique<reflections::Reflections>(ctx_, *renderer_);
+        chain_.reset();
+        chain_ = std::make_unique<chain::Chain>(ctx_, *renderer_, doc_.settings());
         bakePending_ = true;
         first_ = true;
     }
 }
 
 void Viewport::updateProbes(const probes::Probes::Progress& progress) {
-    if (!reflections::probesInUse(doc_.settings())) return;
-    probes_->update(progress);
-    bakePending_ = false;
+    if (chain_->update(doc_.settings(), progress)) bakePending_ = false;
 }
 
 app::FrameResult Viewport::render(const FrameRequest& request, const app::PresentHook& present, VkSemaphore wait,
@@ -110,7 +100,7 @@ app::FrameResult Viewport::render(const FrameRequest& request, const app::Presen
     if (inspect)
         for (const char* a : {"method", "iterations", "roughness", "reflection"}) aovs.push_back(a);
     if (request.screenshot) aovs.push_back("color");
-    app::LitHook inner = reflections::litHook(*reflections_, probes_.get(), doc_.settings(), frame_);
+    app::LitHook inner = chain_->litHook(doc_.settings(), frame_);
     app::LitHook hook = inner;
     hook.modules.push_back(editorModuleInfo());
     hook.addPasses = [inner](FrameGraph& g, const render::GBuffer& gbuffer, TextureHandle lit, app::ModuleAovs& a) {

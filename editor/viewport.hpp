@@ -9,8 +9,7 @@
 
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/gpu/context.hpp"
-#include "speculum/probes/probes.hpp"
-#include "speculum/reflections/reflections.hpp"
+#include "speculum/chain.hpp"
 #include "speculum/render/renderer.hpp"
 
 #include <map>
@@ -42,9 +41,6 @@ struct PixelInfo {
 // material flags and index).
 app::ModuleInfo editorModuleInfo();
 
-// Every module the editor hosts, in chain order.
-std::vector<app::ModuleInfo> hostedModules();
-
 class Viewport {
 public:
     Viewport(const gpu::Context& ctx, Document& document);
@@ -57,11 +53,11 @@ public:
     void previewMaterials() { renderer_->updateMaterialFactors(); }
     // Bakes what the probes ask for (every probe after a rebuild or requestBake).
     void updateProbes(const probes::Probes::Progress& progress);
-    void requestBake(int probe) { probes_->requestUpdate(probe); }
+    void requestBake(int probe) { chain_->probes().requestUpdate(probe); }
     // Live re-bake while a probe or CMO is dragged: the probes module captures it again from
     // `world`, a face per frame (Probes::moveProbe), before the drag's command rebuilds it.
-    void moveProbeLive(int node, const glm::mat4& world) { probes_->moveProbe(node, world); }
-    const probes::Probes& probes() const { return *probes_; }
+    void moveProbeLive(int node, const glm::mat4& world) { chain_->probes().moveProbe(node, world); }
+    const probes::Probes& probes() const { return chain_->probes(); }
     bool bakePending() const { return bakePending_; }
 
     struct FrameRequest {
@@ -89,8 +85,7 @@ private:
     Document& doc_;
     uint64_t revision_ = 0;
     std::unique_ptr<render::Renderer> renderer_;
-    std::unique_ptr<probes::Probes> probes_;
-    std::unique_ptr<reflections::Reflections> reflections_;
+    std::unique_ptr<chain::Chain> chain_;  // probes, then reflections
     std::unique_ptr<app::FrameRunner> runner_;
     render::FrameInputs frame_;
     bool first_ = true;

@@ -1,19 +1,20 @@
 // speculum-game: walk the hall of mirrors and find the collectibles, which only the mirrors show
-// (sample_game/README.md: controls, recordings, frame rates). The HUD (Dear ImGui, the editor's
-// UI layer) shows fps and GPU time and toggles each reflection method; the internal resolution
-// follows the frame time and the image is upscaled to the window.
+// (sample_game/README.md: controls, recordings, frame rates). The HUD (Dear ImGui through the
+// engine's UI layer, the game.hud pass) shows fps and GPU time and toggles each reflection
+// method; the internal resolution follows the frame time and the image is upscaled to the window.
 #include "game.hpp"
-#include "ui_layer.hpp"
 
 #include "speculum/app/device_budget.hpp"
 #include "speculum/app/camera_flags.hpp"
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/app/output.hpp"
 #include "speculum/app/window.hpp"
+#include "speculum/chain.hpp"
+#include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
-#include "speculum/reflections/hook.hpp"
 #include "speculum/render/renderer.hpp"
 #include "speculum/scene.hpp"
+#include "speculum/ui/ui_layer.hpp"
 
 #include <CLI/CLI.hpp>
 #include <GLFW/glfw3.h>
@@ -92,8 +93,8 @@ game::FrameInput liveInput(GLFWwindow* w, bool playing, double& lastX, double& l
 }
 
 // The frame's image blitted (bilinear) over the whole window, then the HUD over it.
-void addPresentPasses(FrameGraph& g, TextureHandle color, app::Swapchain& swapchain, editor::UiLayer& ui) {
-    ui.addPass(g, swapchain.addPresentPass(g, color, VK_FILTER_LINEAR));
+void addPresentPasses(FrameGraph& g, TextureHandle color, app::Swapchain& swapchain, ui::UiLayer& ui) {
+    ui.addPass(g, swapchain.addPresentPass(g, color, VK_FILTER_LINEAR), "game.hud");
 }
 
 struct Hud {
@@ -210,11 +211,10 @@ private:
     app::Window window_;
     gpu::Context ctx_;
     render::Renderer renderer_;
-    probes::Probes probes_;
-    reflections::Reflections module_;
+    chain::Chain chain_;  // probes, then reflections
     app::Swapchain swapchain_;
     Hud hud_;
-    std::unique_ptr<editor::UiLayer> ui_;
+    std::unique_ptr<ui::UiLayer> ui_;
     float scale_ = 1.0f;
     VkExtent2D internal_{};
     std::unique_ptr<app::FrameRunner> runner_;
@@ -243,7 +243,7 @@ Options withReplay(Options opt, game::Recording& replay) {
 }
 
 Settings presetSettings(const Options& opt) {
-    Settings settings(app::settingsOf({}, {probes::moduleInfo(), reflections::moduleInfo()}));
+    Settings settings(app::settingsOf({}, chain::moduleInfos()));
     loadPreset(settings, opt.preset);
     for (const std::string& kv : opt.sets) settings.assign(kv);
     return settings;
@@ -272,8 +272,7 @@ GameApp::GameApp(Options opt)
       window_("Speculum", widthOf(opt_), heightOf(opt_)),
       ctx_(contextOptions(opt_)),
       renderer_(fitted(ctx_, scene_), scene_),
-      probes_(ctx_, renderer_, probes::ProbeSettings::from(settings_)),
-      module_(ctx_, renderer_),
+      chain_(ctx_, renderer_, settings_),
       swapchain_(ctx_, window_) {
     if (game_.collectibles().empty())
         std::cout << "speculum-game: " << opt_.scene << " has no collectible.N nodes: nothing to find\n";
@@ -292,7 +291,7 @@ GameApp::GameApp(Options opt)
         std::printf("%s\n", *gPaused ? "paused" : "resumed");
         glfwSetInputMode(w, GLFW_CURSOR, *gPaused ? GLFW_CURSOR_NORMAL : GLFW_CURSOR_DISABLED);
     });
-    ui_ = std::make_unique<editor::UiLayer>(ctx_, window_.handle(), swapchain_.format(), swapchain_.imageCount());
+    ui_ = std::make_unique<ui::UiLayer>(ctx_, window_.handle(), swapchain_.format(), swapchain_.imageCount());
     if (!replaying_) glfwSetInputMode(window_.handle(), GLFW_CURSOR, GLFW_CURSOR_DISABLED);
     VkExtent2D extent = swapchain_.extent();
     scale_ = opt_.scale > 0.0f ? opt_.scale
@@ -328,7 +327,7 @@ void GameApp::apply(const game::Game::Events& ev) {
                     game_.collectibles().size(), game_.time());
         // Gone from the main view and, after the re-bake, from every reflection.
         renderer_.setNodeVisible(c.node, false);
-        probes_.requestUpdate(-1);
+        chain_.probes().requestUpdate(-1);
     }
     if (ev.won)
         std::printf("frame %d: won: all %zu found in %.2f s, %d wall hits\n", frames_, game_.collectibles().size(),
@@ -347,8 +346,7 @@ bool GameApp::frame() {
     game::FrameInput in = nextInput(wallMs, done);
     if (done) return false;
     apply(game_.advance(in, hud_.paused));
-    if (reflections::probesInUse(settings_))
-        probes_.update(frames_ == 0 ? probes::Probes::terminalProgress() : probes::Probes::Progress{});
+    chain_.update(settings_, frames_ == 0 ? probes::Probes::terminalProgress() : probes::Probes::Progress{});
     if (!swapchain_.acquire()) return true;
     render(in);
     ++frames_;
@@ -374,7 +372,7 @@ void GameApp::render(const game::FrameInput& in) {
         runner_->resize(internal_.width, internal_.height);
         std::printf("frame %d: internal resolution %ux%u\n", frames_, internal_.width, internal_.height);
         // Last frame's history has the old size: start the temporal accumulation afresh.
-        module_.resetHistory();
+        chain_.resetHistory();
     }
     frame_.previousCamera = frame_.camera;
     frame_.camera = render::makeCamera(game_.eye(), game_.eye() + game_.forward(), {0, 1, 0}, glm::radians(70.0f),
@@ -395,7 +393,7 @@ void GameApp::render(const game::FrameInput& in) {
     std::vector<std::string> aovs;
     if (opt_.shotFrames.count(frames_)) aovs.push_back("color");
     app::FrameResult result = runner_->render(
-        frame_, aovs, reflections::litHook(module_, &probes_, settings_, frame_),
+        frame_, aovs, chain_.litHook(settings_, frame_),
         [&](FrameGraph& g, TextureHandle color) { addPresentPasses(g, color, swapchain_, *ui_); },
         swapchain_.acquired(), swapchain_.rendered());
     swapchain_.present();
@@ -448,7 +446,7 @@ int run(const Options& opt) {
     app::parseSize(resolved.size);
     if (!app::displayAvailable()) {
         std::cerr << "speculum-game: no display found (DISPLAY/WAYLAND_DISPLAY unset or unreachable); render "
-                     "headless instead: build/engine/speculum-capture --scene "
+                     "headless instead: build/tools/capture/speculum-capture --scene "
                   << resolved.scene << " --out out/\n";
         return 1;
     }
@@ -475,12 +473,7 @@ int main(int argc, char** argv) {
     cli.add_option("--replay", opt.replay, "replay a recorded session (its scene, size and preset)")->excludes(rec);
     cli.add_option("--shots", opt.shots, "folder for --shot-frames images (the colour before the HUD)");
     cli.add_option("--shot-frames", shotFrames, "frame numbers to write, comma separated");
-    try {
-        cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return cli.exit(e) == 0 ? 0 : static_cast<int>(ExitCode::BadArguments);
-    }
-    try {
+    return app::toolMain("speculum-game", cli, argc, argv, [&] {
         if (opt.frames < 0) throw argumentError("--frames must be 0 (until quit) or more");
         if (opt.scale != 0.0f && !(opt.scale >= 0.1f && opt.scale <= 1.0f)) throw argumentError("--scale must be in [0.1, 1]");
         std::stringstream list(shotFrames);
@@ -495,11 +488,5 @@ int main(int argc, char** argv) {
         if (std::find(std::begin(kPresets), std::end(kPresets), opt.preset) == std::end(kPresets))
             throw argumentError("--preset " + opt.preset + ": expected low, medium or high");
         return run(opt);
-    } catch (const Error& e) {
-        std::cerr << "speculum-game: " << e.what() << "\n";
-        return static_cast<int>(e.code());
-    } catch (const std::exception& e) {
-        std::cerr << "speculum-game: internal error: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }

@@ -10,6 +10,6 @@ if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]]; then
   exec "$BUILD/sample_game/speculum-game" --scene assets/scenes/gallery.gltf "$@"
 fi
 echo "run: no display, rendering the gallery headless to out/ (960x540, 10 timed frames)"
-"$BUILD/engine/speculum-capture" --scene assets/scenes/gallery.gltf --camera main --size 960x540 \
+"$BUILD/tools/capture/speculum-capture" --scene assets/scenes/gallery.gltf --camera main --size 960x540 \
   --warmup 3 --frames 10 --aov color,linear,depth,normal,roughness,motion --out out "$@"
 echo "run: wrote out/color.0009.png, the other AOVs, timings.json and graph.dot/graph.json"

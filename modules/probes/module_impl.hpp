@@ -10,7 +10,7 @@
 
 #include <optional>
 
-#include "common/cmo.h"
+#include "probes/shaders/cmo.h"
 
 namespace speculum::probes {
 

@@ -145,7 +145,7 @@ void Probes::Impl::allocate() {
     ready.assign(probes.size(), false);
     relocating.assign(probes.size(), -1);
     movedAgain.assign(probes.size(), false);
-    records = gpu::Buffer(ctx, sizeof(GpuProbe) * count, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.records");
+    records = gpu::Buffer(ctx, sizeof(shader::Probe) * count, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.records");
     std::memset(records.mapped(), 0, records.size());
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         // Black until baked: a probe is blended only once its record is written (ready).
@@ -167,7 +167,7 @@ uint32_t Probes::Impl::readyCount() const {
 }
 
 uint32_t Probes::Impl::writeRecords() {
-    auto* out = static_cast<GpuProbe*>(records.mapped());
+    auto* out = static_cast<shader::Probe*>(records.mapped());
     uint32_t n = 0;
     for (size_t i = 0; i < probes.size(); ++i)
         if (ready[i]) out[n++] = probes[i].gpu;

@@ -54,7 +54,7 @@ def main():
     ap.add_argument("--scenes", default="gallery,failure_cases")
     ap.add_argument("--sizes", default="640x360,960x540")
     a = ap.parse_args()
-    exe = os.path.join(a.build, "engine", "speculum-capture")
+    exe = os.path.join(a.build, "tools", "capture", "speculum-capture")
     print(f"| scene | size | tracer | iterations / ray | iterations / ray > {LONG_RAY_PX} px | agrees on rays > "
           f"{LONG_RAY_PX} px | trace ms | module ms | frame ms | module share |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")

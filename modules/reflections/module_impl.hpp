@@ -12,7 +12,7 @@
 
 #include <cstddef>
 
-#include "reflections/frame.h"
+#include "reflections/shaders/frame.h"
 
 namespace speculum::reflections {
 
@@ -106,9 +106,9 @@ struct Reflections::Impl {
     void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
                     ReflectionOutputs& out);
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
-    // image. `method`: the reflected distance at the trace's size (ReflectionOutputs::distance).
+    // image. `distance`: the reflected distance at the trace's size (ReflectionOutputs::distance).
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle reflection,
-                              TextureHandle method);
+                              TextureHandle distance);
     struct Composited {
         TextureHandle shown;    // the lit image, or the debug view
         TextureHandle history;  // the lit image with this frame's own reflection (the next colour pyramid's)

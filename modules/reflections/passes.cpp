@@ -274,7 +274,7 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                                                               const ReflectionOutputs& out, DebugView view,
                                                               TextureHandle raw) {
     struct Data {
-        TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, method, dst, plain;
+        TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, debug, dst, plain;
     };
     const bool separate = view != DebugView::None || raw.valid();
     const auto& d = g.addPass<Data>(
@@ -291,7 +291,7 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             // Only the method debug view reads the weights: otherwise the reflection is bound in
             // their place, so that the graph can cull the half-resolution method upsampling.
-            data.method = b.read(view == DebugView::Method                      ? out.method
+            data.debug = b.read(view == DebugView::Method                      ? out.method
                                  : view == DebugView::Cmo && out.cmoInfo.valid() ? out.cmoInfo
                                                                                  : out.reflection,
                                  TextureUsage::Sampled);
@@ -316,7 +316,7 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                 .sampled("dfgTex", env.dfg().view(), env.sampler())
                 .sampled("hiz", pc.view(data.hiz), nearest)
                 .sampled("hitTex", pc.view(data.hit), nearest)
-                .sampled("methodTex", pc.view(data.method), nearest)
+                .sampled("debugTex", pc.view(data.debug), nearest)
                 .storage("dst", pc.view(data.dst))
                 .storage("plainOut", pc.view(separate ? data.plain : data.dst))  // unused when not separate
                 .sampled("rawReflectionTex", pc.view(data.raw), nearest);
@@ -326,9 +326,9 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
 }
 
 TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                             TextureHandle reflection, TextureHandle method) {
+                                             TextureHandle reflection, TextureHandle distance) {
     struct Data {
-        TextureHandle hiz, normal, emissive, motion, reflection, method, history, historyNormal, historyDepth, dst,
+        TextureHandle hiz, normal, emissive, motion, reflection, distance, history, historyNormal, historyDepth, dst,
             dstNormal;
     };
     historyReflection = g.importHistory("reflections.history.reflection", history.reflection.history());
@@ -341,7 +341,7 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
             data.reflection = b.read(reflection, TextureUsage::Sampled);
-            data.method = b.read(method, TextureUsage::Sampled);
+            data.distance = b.read(distance, TextureUsage::Sampled);
             data.history = b.read(historyReflection.previous, TextureUsage::Sampled);
             data.historyNormal = b.read(historyNormal.previous, TextureUsage::Sampled);
             data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
@@ -352,7 +352,7 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.sampled("motionTex", pc.view(data.motion), nearest)
                 .sampled("reflectionTex", pc.view(data.reflection), nearest)
-                .sampled("methodTex", pc.view(data.method), nearest)
+                .sampled("distanceTex", pc.view(data.distance), nearest)
                 .sampled("historyTex", pc.view(data.history), nearest)
                 .sampled("historyNormal", pc.view(data.historyNormal), nearest)
                 .sampled("historyDepth", pc.view(data.historyDepth), nearest)

@@ -57,9 +57,9 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
         c,
         {4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 6, true, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
         "reflections.no_probes");
-    noProbeRecords = gpu::Buffer(c, sizeof(probes::GpuProbe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+    noProbeRecords = gpu::Buffer(c, sizeof(probes::shader::Probe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
                                  "reflections.no_probe_records");
-    std::memset(noProbeRecords.mapped(), 0, sizeof(probes::GpuProbe));
+    std::memset(noProbeRecords.mapped(), 0, sizeof(probes::shader::Probe));
     c.submitAndWait([&](VkCommandBuffer cmd) {
         gpu::transition(cmd, noProbeCubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                         VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
@@ -78,7 +78,7 @@ probes::ProbeSet Reflections::Impl::importNoProbes(FrameGraph& g) const {
                         {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
                         {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
-    set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::GpuProbe)}, {noProbeRecords.get()});
+    set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::shader::Probe)}, {noProbeRecords.get()});
     return set;
 }
 

@@ -1,7 +1,7 @@
 // reflections.upsample: see speculum/reflections/upsample.hpp and shaders/reflections/upsample.comp.
 #include "speculum/reflections/upsample.hpp"
 
-#include "reflections/upsample.h"
+#include "reflections/shaders/upsample.h"
 
 namespace speculum::reflections {
 namespace {

@@ -51,7 +51,7 @@ def scene_with_resolution(scene, res, out):
 
 
 def capture(build, scene, camera, size, sets, out, aov=None):
-    cmd = [str(build / "engine" / "speculum-capture"), "--scene", str(scene), "--camera", camera, "--size", size,
+    cmd = [str(build / "tools" / "capture" / "speculum-capture"), "--scene", str(scene), "--camera", camera, "--size", size,
            "--warmup", "3", "--frames", "5", "--out", str(out)]
     if aov:
         cmd += ["--aov", aov]

@@ -9,7 +9,7 @@ BUILD=${SPECULUM_BUILD_DIR:-build}
 size=${1:-960x540}; frames=${2:-20}; shift $(( $# < 2 ? $# : 2 ))
 out=$(mktemp -d)
 export MESA_SHADER_CACHE_DIR="$PWD/$BUILD/mesa-cache"
-"$BUILD/engine/speculum-capture" --scene assets/scenes/gallery.gltf --camera main --size "$size" \
+"$BUILD/tools/capture/speculum-capture" --scene assets/scenes/gallery.gltf --camera main --size "$size" \
   --warmup 5 --frames "$frames" --aov color --out "$out" "$@" >/dev/null
 python3 - "$out/timings.json" "$size" "$frames" "$*" <<'PY'
 import json, sys, os

@@ -210,7 +210,7 @@ def main():
     args = p.parse_args()
     build, out = Path(args.build), Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    capture = build / "engine" / "speculum-capture"
+    capture = build / "tools" / "capture" / "speculum-capture"
     if args.size is None:
         args.size = "960x540" if args.what == "lookup" else "64x36"
     print(f"probe_costs {args.what}: load average {load()}", flush=True)

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${SPECULUM_BUILD_DIR:-build}
-capture="$BUILD/engine/speculum-capture"
+capture="$BUILD/tools/capture/speculum-capture"
 tmp=$(mktemp -d)
 python3 - "$capture" "$tmp" <<'PY'
 import json, subprocess, sys, shutil, os

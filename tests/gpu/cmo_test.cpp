@@ -17,7 +17,7 @@
 #include <memory>
 #include <random>
 
-#include "common/cmo.h"
+#include "probes/shaders/cmo.h"
 
 using namespace speculum;
 using render::test::cubeTexel;

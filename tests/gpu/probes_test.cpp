@@ -8,7 +8,7 @@
 #include "speculum/app/frame_runner.hpp"
 #include "speculum/gpu/pipeline.hpp"
 #include "speculum/probes/probes.hpp"
-#include "speculum/reflections/hook.hpp"
+#include "speculum/chain.hpp"
 #include "speculum/reflections/reflections.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -86,10 +86,10 @@ public:
     }
 
     // Per query: direction of probe 0, of probe 1, influences, sampleProbes.
-    std::vector<glm::vec4> run(const std::vector<probes::GpuProbe>& records, const std::vector<Query>& queries) {
-        gpu::Buffer recs(ctx_, sizeof(probes::GpuProbe) * 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.records");
+    std::vector<glm::vec4> run(const std::vector<probes::shader::Probe>& records, const std::vector<Query>& queries) {
+        gpu::Buffer recs(ctx_, sizeof(probes::shader::Probe) * 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.records");
         std::memset(recs.mapped(), 0, recs.size());
-        std::memcpy(recs.mapped(), records.data(), records.size() * sizeof(probes::GpuProbe));
+        std::memcpy(recs.mapped(), records.data(), records.size() * sizeof(probes::shader::Probe));
         gpu::Buffer in(ctx_, sizeof(Query) * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.queries");
         std::memcpy(in.mapped(), queries.data(), in.size());
         gpu::Buffer out(ctx_, sizeof(glm::vec4) * 4 * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
@@ -160,19 +160,19 @@ glm::dvec3 randomUnit(std::mt19937& rng) {
 
 namespace {
 
-// The modules composed as speculum-capture composes them (probes, then reflections), on one scene,
-// baked, at the main camera.
+// The modules composed as every host composes them (chain::Chain: probes, then reflections), on
+// one scene, baked, at the main camera.
 struct Composed {
-    Settings settings{app::settingsOf(app::engineSettingsTable(), {probes::moduleInfo(), reflections::moduleInfo()})};
+    Settings settings{app::settingsOf(app::engineSettingsTable(), chain::moduleInfos())};
     render::Renderer renderer;
-    probes::Probes probes;
-    reflections::Reflections reflections;
+    chain::Chain chain;
+    probes::Probes& probes;
     app::FrameRunner runner;
     render::FrameInputs frame;
 
     Composed(const gpu::Context& ctx, const Scene& scene, uint32_t w, uint32_t h)
-        : renderer(ctx, scene, rendererOptions(settings)), probes(ctx, renderer, probes::ProbeSettings::from(settings)),
-          reflections(ctx, renderer), runner(ctx, renderer, w, h) {
+        : renderer(ctx, scene, rendererOptions(settings)), chain(ctx, renderer, settings), probes(chain.probes()),
+          runner(ctx, renderer, w, h) {
         render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
         frame = {cam, cam};
         probes.update();
@@ -183,7 +183,7 @@ struct Composed {
         return ro;
     }
     app::FrameResult render(const std::vector<std::string>& aovs) {
-        return runner.render(frame, aovs, reflections::litHook(reflections, &probes, settings, frame));
+        return runner.render(frame, aovs, chain.litHook(settings, frame));
     }
 };
 
@@ -388,7 +388,7 @@ TEST_F(ProbesGpu, MethodWeightsAreNonNegativeAndSumToOne) {
         const std::vector<float>& method = res.aovs.at("method").rgba;
         const std::vector<float>& depth = res.aovs.at("depth").rgba;
         ASSERT_EQ(probeModule.probes().size(), 1u) << name;
-        const probes::GpuProbe& pr = probeModule.probes()[0].gpu;
+        const probes::shader::Probe& pr = probeModule.probes()[0].gpu;
         size_t geometry = 0, reflective = 0, negative = 0, badSum = 0, inVolume = 0, skyInVolume = 0,
                probesLead = 0, probesTrail = 0;
         float worstSum = 0.0f, worstSky = 0.0f;
@@ -456,7 +456,7 @@ TEST_F(ProbesGpu, HigherOrderProbeTakesTheWholeWeightInTheOverlap) {
     const auto& list = module.probes();
     ASSERT_EQ(list.size(), 2u);
     EXPECT_EQ(list[0].node, 1) << "blend order: the higher order first";
-    std::vector<probes::GpuProbe> records = {list[0].gpu, list[1].gpu};
+    std::vector<probes::shader::Probe> records = {list[0].gpu, list[1].gpu};
     ASSERT_EQ(records[0].params.x, 0.0f);
     ASSERT_EQ(records[1].params.x, 1.0f);
 

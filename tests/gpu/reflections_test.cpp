@@ -4,7 +4,7 @@
 #include "render_test_support.hpp"
 
 #include "speculum/app/frame_runner.hpp"
-#include "speculum/reflections/hook.hpp"
+#include "speculum/chain.hpp"
 #include "speculum/reflections/math.hpp"
 #include "speculum/reflections/reflections.hpp"
 

@@ -8,6 +8,7 @@
 // Exit 0 done, 2 bad arguments, 3 an image cannot be read or sizes differ.
 #include "metrics.hpp"
 
+#include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
 
 #include <CLI/CLI.hpp>
@@ -114,22 +115,8 @@ int main(int argc, char** argv) {
     fl->add_option("--ref-mask-aov", o.refMaskAov, "reference mask AOV (e.g. reflective)");
     fl->add_option("--test-mask-aov", o.testMaskAov, "engine mask AOV (e.g. reflection)");
     fl->add_option("--scale", o.scale, "multiplier before clamping to [0, 1] (the scene's exposure)");
-    try {
-        cli.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return cli.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "speculum-metrics: " << e.what() << " (see --help)\n";
-        return static_cast<int>(ExitCode::BadArguments);
-    }
-    try {
+    return app::toolMain("speculum-metrics", cli, argc, argv, [&] {
         if (!(o.scale > 0.0f)) throw argumentError("--scale must be positive");
         return cmp->parsed() ? compare(o) : flicker(o);
-    } catch (const Error& e) {
-        std::cerr << "speculum-metrics: " << e.what() << "\n";
-        return static_cast<int>(e.code());
-    } catch (const std::exception& e) {
-        std::cerr << "speculum-metrics: internal error: " << e.what() << "\n";
-        return static_cast<int>(ExitCode::Failure);
-    }
+    });
 }

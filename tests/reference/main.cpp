@@ -7,6 +7,7 @@
 #include "speculum/app/camera_flags.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/output.hpp"
+#include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
 #include "speculum/limits.hpp"
 
@@ -173,22 +174,8 @@ int main(int argc, char** argv) {
     cli.add_option("--aov", o.aov,
                    "comma list: linear,color,reflection,depth,normal,reflective (default linear,color,reflection,reflective)");
     cli.add_option("--out", o.out, "output directory");
-    try {
-        cli.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return cli.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "speculum-reference: " << e.what() << " (see --help)\n";
-        return static_cast<int>(ExitCode::BadArguments);
-    }
-    o.settingsGiven = cli.count("--settings") > 0;
-    try {
+    return app::toolMain("speculum-reference", cli, argc, argv, [&] {
+        o.settingsGiven = cli.count("--settings") > 0;
         return run(o);
-    } catch (const Error& e) {
-        std::cerr << "speculum-reference: " << e.what() << "\n";
-        return static_cast<int>(e.code());
-    } catch (const std::exception& e) {
-        std::cerr << "speculum-reference: internal error: " << e.what() << "\n";
-        return static_cast<int>(ExitCode::Failure);
-    }
+    });
 }

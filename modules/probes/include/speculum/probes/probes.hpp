@@ -15,6 +15,8 @@
 
 #include <glm/glm.hpp>
 
+#include "probes/shaders/probe.h"
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -44,21 +46,13 @@ private:
     explicit ProbeSettings(Blank) {}
 };
 
-// The shader-visible record, std430; its GLSL twin is `Probe` in shaders/common/probes.glsl.
-struct GpuProbe {
-    glm::mat4 worldToLocal{1.0f};  // the node's inverse world transform
-    glm::vec4 center{0.0f};        // xyz capture point (world), w shape (0 box, 1 sphere)
-    glm::vec4 extents{1.0f};       // xyz half-extents in node space (sphere: radius in x), w blend distance
-    glm::vec4 params{0.0f};        // x cube index in the array, y the array's last mip
-};
-static_assert(sizeof(GpuProbe) == 112);
 
 // A probe of the scene, as the module keeps it.
 struct ProbeInfo {
     int node = -1;
     std::string name;
     ReflectionProbe probe;
-    GpuProbe gpu;
+    shader::Probe gpu{};  // the shader-visible record (probes/shaders/probe.h)
     float volume = 0.0f;  // world volume of the influence shape (smaller wins at equal order)
 };
 
@@ -77,7 +71,7 @@ struct CmoSet {
 // What the module hands to the next one: valid handles in the graph they were added to.
 struct ProbeSet {
     TextureHandle cubes;   // cube array, SHADER_READ_ONLY: cube i is probe i's prefiltered radiance
-    BufferHandle records;  // GpuProbe[count], in blend order
+    BufferHandle records;  // shader::Probe[count], in blend order
     uint32_t count = 0;    // 0: no probe (or probes off); the handles still name valid dummies
     CmoSet cmos;           // invalid handles when the host did not add them
 };

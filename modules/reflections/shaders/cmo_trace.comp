@@ -1,0 +1,169 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.cmo_trace: the part of each reflected ray that screen space leaves uncovered,
+// traced through the CMOs in their order (shaders/common/cmo.glsl: the hierarchical or the
+// linear tracer), a hit shaded for the reflected ray's direction, and self-reflections: a hit
+// on a mirror-masked surface reflects again, up to reflections.cmo_bounces, each ray with its
+// own start where it leaves the surface (cmoLeaveSurface). The resolve takes the result as the chain's second link.
+#include "common/brdf.glsl"
+#include "engine/lighting_common.glsl"
+#include "engine/scene_lights.glsl"
+#include "reflections/shaders/common.glsl"
+#include "reflections/shaders/material.glsl"
+#define CMO_RECORDS_BINDING 7
+#define CMO_DISTANCE_BINDING 8
+#define CMO_LAYERS_BINDING 9
+#define CMO_ATTR_BINDING 10
+#define CMO_ALBEDO_BINDING 11
+#include "probes/shaders/cmo.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D hiz;          // level 0: depth
+layout(set = 0, binding = 2) uniform sampler2D normalTex;
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
+layout(set = 0, binding = 5) uniform sampler2D hitTex;       // the screen-space trace's
+layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: guidePixel()
+layout(set = 0, binding = 12) uniform samplerCubeArray cmoRadiance;  // trilinear: glossy footprints
+layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D cmoOut;
+layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D infoOut;
+
+// Ids above the scene lights' (0-287, scene_lights.glsl).
+layout(constant_id = 300) const uint kHalf = 0u;    // reflections.resolution=half
+layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=linear
+
+// The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
+// CMO's own direction), with the lights' direct terms moved to the reflected ray's direction
+// (the diffuse parts cancel; the specular highlight moves with the viewer). Glossy rays read
+// the radiance mips at the cone's footprint `cone` (world width at the hit).
+vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out vec3 n, out vec3 f0) {
+    vec3 u = hp - c.center.xyz;
+    ivec3 texel = cmoTexel(c, u);
+    ivec3 at = ivec3(texel.xy, int(c.params.x) + texel.z);
+    int base = int(c.params.y);
+    vec4 lit = texelFetch(cmoLayers, at, base);
+    vec4 nr = texelFetch(cmoAttr, at, base);
+    vec4 albedo = texelFetch(cmoAlbedo, at, base);
+    mirror = lit.a >= 1.5;
+    float sun = lit.a - (mirror ? 2.0 : 0.0);
+    n = normalize(nr.xyz);
+    f0 = specularF0(albedo.rgb, albedo.a);
+    vec3 vNew = -dir;
+    vec3 vCmo = normalize(-u);
+    vec3 delta = vec3(0.0);
+    uint i = 0u;
+    for (; i < kDirectionalLights; ++i) {
+        GpuLight light = sceneLight(i);
+        vec3 l = -light.directionRange.xyz;
+        vec3 f = evalBRDFCos(n, vNew, l, albedo.rgb, albedo.a, nr.w) - evalBRDFCos(n, vCmo, l, albedo.rgb, albedo.a, nr.w);
+        delta += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sun : 1.0);
+    }
+    for (; i < kLights; ++i) {
+        vec3 l;
+        vec3 radiance = incidentRadiance(sceneLight(i), hp, l);
+        delta += (evalBRDFCos(n, vNew, l, albedo.rgb, albedo.a, nr.w) - evalBRDFCos(n, vCmo, l, albedo.rgb, albedo.a, nr.w)) *
+                 radiance;
+    }
+    float texelWorld = length(u) * c.params.w;
+    float mip = log2(max(cone / max(texelWorld, 1e-6), 1.0));
+    vec3 captured = lit.rgb;
+    if (mip > 0.5) {
+        float top = float(base) + c.params.z - 1.0;
+        captured = textureLod(cmoRadiance, vec4(u, c.params.x / 6.0), min(float(base) + mip, top)).rgb;
+    }
+    return max(captured + delta, vec3(0.0));
+}
+
+// Whether screen space alone covers this pixel (resolve.comp's coverage in `hit` mode is 1):
+// then nothing is left for the CMOs.
+bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
+    if (!(hit.z > 0.0) || rf.coverageMode != 0u || !m.screenSpace) return false;
+    float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) * distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
+                  clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
+    return fades >= 1.0;
+}
+
+void main() {
+    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
+    vec4 result = vec4(0.0);
+    vec4 info = vec4(0.0);
+    float depth;
+    vec4 normalRough;
+    PixelMaterial m = readSurface(hiz, normalTex, emissiveTex, pixel, depth, normalRough);
+    vec3 p = worldAt(vec2(pixel) + 0.5, depth);
+    vec3 v = normalize(p - rfm.eye);
+    vec3 n = normalize(normalRough.xyz);
+    vec3 r = reflect(v, n);
+    if (rf.cmoCount > 0u && depth > 0.0 && m.reflective && m.traceCmos && m.roughness <= rf.cmoMaxRoughness &&
+        !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
+        int iterations = 0;
+        int maxIterations = int(rf.cmoMaxIterations);
+        int maxBounces = int(rf.cmoBounces);
+        float coneSlope = 2.0 * coneTan(m.roughness);
+        vec3 throughput = vec3(1.0);
+        vec3 fallback = vec3(0.0);  // a mirror's own captured radiance, if its next ray is not found
+        vec3 origin = p, normal = n, dir = r;
+        float travelled = 0.0;
+        for (int bounce = 0; bounce <= maxBounces; ++bounce) {
+            int found = -1;
+            float tHit = 0.0;
+            bool unresolved = false;
+            // Every CMO in order; with reflections.cmo_unresolved=pass_behind, if all left the ray
+            // unresolved, the first once more with the ray taken to pass behind what hid it
+            // (cmo.glsl, passBehind): a thin pillar hides a strip of wall from a CMO, and the
+            // local probes would paint the pillar there again.
+            for (uint k = 0u; k <= rf.cmoCount && found < 0; ++k) {
+                bool last = k == rf.cmoCount;
+                if (last && !(unresolved && rf.cmoPassBehind != 0u)) break;
+                uint i = last ? 0u : k;
+                CmoRecord c = cmos[i];
+                vec3 o = origin - c.center.xyz;
+                float th;
+                int status = kLinear != 0u
+                                 ? cmoTraceLinear(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoLinearStep, rf.cmoThickness,
+                                                  maxIterations, last, iterations, th)
+                                 : cmoTraceHierarchical(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoThickness,
+                                                        maxIterations, last, iterations, th);
+                if (status == kCmoHit) {
+                    found = int(i);
+                    tHit = th;
+                }
+                unresolved = unresolved || status == kCmoUnresolved;
+            }
+            if (found < 0) {
+                if (bounce == 0) info.z = unresolved ? 2.0 : 0.0;
+                else result = vec4(fallback, result.a);
+                break;
+            }
+            CmoRecord c = cmos[found];
+            vec3 hp = origin + dir * tHit;
+            travelled += tHit;
+            if (bounce == 0) {
+                result.a = max(tHit, 1e-3);
+                info.y = float(found + 1);
+                info.z = 1.0;
+            }
+            bool mirror;
+            vec3 hn, f0;
+            vec3 shaded = shadeHit(c, hp, dir, coneSlope * travelled, mirror, hn, f0);
+            if (mirror && bounce < maxBounces) {
+                // Self-reflection: the mirror reflects again, weighed by its Fresnel term.
+                fallback = throughput * shaded;
+                throughput *= F_Schlick(f0, max(dot(hn, -dir), 0.0));
+                origin = hp;
+                normal = hn;
+                dir = reflect(dir, hn);
+                info.w = float(bounce + 1);
+                continue;
+            }
+            result.rgb = throughput * shaded;
+            break;
+        }
+        info.x = float(iterations);
+        if (!finite3(result.rgb)) result = vec4(0.0);
+    }
+    imageStore(cmoOut, out_, result);
+    imageStore(infoOut, out_, info);
+}

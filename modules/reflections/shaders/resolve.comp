@@ -1,0 +1,200 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.resolve: screen-space cone tracing (Uludag 4.4.5) from each pixel's hit, then the
+// environment for what screen space does not cover. The cone of the reflection's roughness
+// projects to an isosceles triangle from the pixel to the hit; circles inscribed in it, the
+// largest at the hit end, are sampled from the pre-convolved colour pyramid at the mip of their
+// size. Each sample weighs by the pre-integrated visibility there and by how far its sphere
+// reaches behind the Hi-Z cell's closest surface, until the weights add up to one.
+#include "common/brdf.glsl"
+#include "reflections/shaders/common.glsl"
+#include "reflections/shaders/material.glsl"
+#include "reflections/shaders/stochastic.glsl"
+#define PROBES_BUFFER_BINDING 11
+#define PROBES_CUBES_BINDING 12
+#include "probes/shaders/probes.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D hiz;          // texelFetch
+layout(set = 0, binding = 2) uniform sampler2D normalTex;
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
+layout(set = 0, binding = 5) uniform sampler2D hitTex;       // texelFetch
+layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear; alpha: pre-integrated visibility
+layout(set = 0, binding = 8) uniform samplerCube envSpecular;
+layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
+layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
+layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
+layout(set = 0, binding = 13) uniform sampler2D cmoTex;      // reflections.cmo_trace: rgb, a first hit distance (0 none)
+layout(set = 0, binding = 14, r32f) uniform writeonly image2D distanceOut;
+// reflections.resolution (1: half): the full pixel the trace chose (the guide,
+// reflections/guide.glsl), written at the invocation's half-resolution position.
+layout(constant_id = 0) const uint kHalf = 0u;
+// reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
+// samples instead of a cone.
+layout(constant_id = 1) const uint kStochastic = 0u;
+
+// The reflected distance the temporal pass reprojects by (distanceOut): the screen-space hit's
+// when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
+// kSkyDistance (common.glsl: a direction) when the sky does; 0: unknown (reproject by the
+// surface); see main.
+
+float incircleRadius(float base, float height) {
+    if (height <= 0.0 || base <= 0.0) return 0.0;
+    return base * (sqrt(base * base + 4.0 * height * height) - base) / (4.0 * height);
+}
+
+// Returns the cone's colour; `accumulated` is its summed visibility weight (at most 1).
+vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out float accumulated) {
+    vec2 delta = hit.xy - start;
+    float len = length(delta);
+    float tanTheta = coneTan(roughness);
+    vec3 mirror = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+    accumulated = 1.0;
+    if (tanTheta <= 0.0 || len < 1.0) return mirror;
+    vec2 u = delta / len;
+    float maxMip = float(textureQueryLevels(colorPyramid) - 1);
+    int maxLevel = int(rf.hizLevels) - 1;
+    float adjacent = len;
+    vec3 sum = vec3(0.0);
+    float total = 0.0;
+    vec3 first = mirror;
+    int samples = int(rf.coneSamples);
+    for (int i = 0; i < samples; ++i) {
+        float r = incircleRadius(2.0 * tanTheta * adjacent, adjacent);
+        vec2 pos = start + u * (adjacent - r);
+        float mip = clamp(log2(max(r, 1.0)), 0.0, maxMip);
+        vec2 uv = pos * rf.size.zw;
+        vec4 cv = textureLod(colorPyramid, uv, mip);
+        vec3 c = cv.rgb;
+        float vis = cv.a;
+        // Depth is affine along the screen-space ray, so the sample's ray depth interpolates.
+        float zRay = linearDepth(mix(startDepth, hit.z, (adjacent - r) / len));
+        float radius = r * zRay * rf.pixelAngle;
+        int level = clamp(int(round(mip)), 0, maxLevel);
+        ivec2 cell = min(ivec2(pos) >> level, hizLevelSize(level) - 1);
+        float zNear = linearDepth(texelFetch(hiz, cell, level).g);
+        float sphere = radius > 0.0 ? clamp((zRay + radius - zNear) / (2.0 * radius), 0.0, 1.0) : 1.0;
+        if (i == 0) first = c;
+        float w = min(vis * sphere, 1.0 - total);
+        sum += c * w;
+        total += w;
+        adjacent -= 2.0 * r;
+        if (total >= 0.999 || adjacent < 1.0) break;
+    }
+    accumulated = total;
+    return total > 1e-4 ? sum / total : first;
+}
+
+// Stochastic glossy: the screen-space radiance of this pixel's lobe from its own ray and its four
+// neighbours' (Stachowiak 2015's ray reuse). Each hit is weighed by this pixel's BRDF times
+// cosine toward it over the pdf with which the neighbour drew its ray (recomputed from the
+// neighbour's noise, reflections/stochastic.glsl), a ratio estimator whose weights also count the
+// rays that missed: `coverage` is the hits' share of the weight, as a cone's visibility is.
+// Neighbours on another surface (normal off by 25 degrees, roughness by 0.1) are not reused.
+vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out float coverage,
+                       out float hitDistance) {
+    const ivec2 kReuse[5] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    ivec2 traceSize = (ivec2(rf.size.xy) + int(kHalf)) >> kHalf;
+    float alpha = roughnessToAlpha(roughness);
+    float NoV = max(dot(n, -v), 1e-4);
+    vec3 sum = vec3(0.0);
+    float wHit = 0.0, wAll = 0.0, distSum = 0.0;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 s = clamp(out_ + kReuse[k], ivec2(0), traceSize - 1);
+        ivec2 q = kHalf != 0u ? guidePixel(s, texelFetch(guideTex, s, 0)) : s;
+        float qDepth = texelFetch(hiz, q, 0).g;
+        vec4 qNormalRough = texelFetch(normalTex, q, 0);
+        PixelMaterial qm = pixelMaterial(texelFetch(emissiveTex, q, 0).a, qNormalRough.w);
+        vec3 qn = normalize(qNormalRough.xyz);
+        if (!(qDepth > 0.0 && qm.reflective) || dot(qn, n) < 0.9 || abs(qm.roughness - roughness) > 0.1) continue;
+        vec3 qv = normalize(worldAt(vec2(q) + 0.5, qDepth) - rfm.eye);
+        vec3 ql = stochasticDirection(q, qv, qn, qm.roughness);
+        float qpdf = visibleNormalPdf(qn, -qv, ql, roughnessToAlpha(qm.roughness));
+        vec4 hit = texelFetch(hitTex, s, 0);
+        bool isHit = hit.z > 0.0;
+        vec3 hp = isHit ? worldAt(hit.xy, hit.z) : p;
+        vec3 l = isHit ? normalize(hp - p) : ql;
+        float NoL = dot(n, l);
+        if (NoL <= 0.0 || !finite3(l)) continue;
+        vec3 h = normalize(l - v);
+        float w = D_GGX(max(dot(n, h), 0.0), alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * NoL / max(qpdf, 1e-6);
+        wAll += w;
+        if (isHit) {
+            float d = distance(hp, p);
+            float wf = w * edgeFade(hit.xy) * distanceFade(d) * cameraFade(dot(l, v));
+            sum += wf * textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            wHit += wf;
+            distSum += wf * d;
+        }
+    }
+    coverage = wAll > 0.0 ? wHit / wAll : 0.0;
+    hitDistance = wHit > 0.0 ? distSum / wHit : 0.0;
+    return wHit > 0.0 ? sum / wHit : vec3(0.0);
+}
+
+void main() {
+    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
+    vec4 reflection = vec4(0.0);
+    vec4 method = vec4(0.0);
+    float distance_ = 0.0;
+    float depth;
+    vec4 normalRough;
+    PixelMaterial m = readSurface(hiz, normalTex, emissiveTex, pixel, depth, normalRough);
+    if (depth > 0.0 && m.reflective) {
+        vec2 px = vec2(pixel) + 0.5;
+        vec3 p = worldAt(px, depth);
+        vec3 v = normalize(p - rfm.eye);
+        vec3 n = normalize(normalRough.xyz);
+        vec3 r = reflect(v, n);
+        vec3 screen = vec3(0.0);
+        float coverage = 0.0;
+        vec4 hit = texelFetch(hitTex, out_, 0);
+        float hitDistance = 0.0;
+        if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
+            if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
+                screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);
+                coverage *= clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
+            }
+        } else if (hit.z > 0.0) {
+            hitDistance = distance(worldAt(hit.xy, hit.z), p);
+            float accumulated;
+            screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
+            float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
+                          distanceFade(hitDistance) *
+                          clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
+            coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
+        }
+        // The fallback chain beyond screen space: CMOs (what reflections.cmo_trace found), then
+        // local probes, then the sky, only where screen space leaves something (the probe
+        // lookup is most of this pass's cost past the cone).
+        vec4 probe = vec4(0.0);
+        vec3 env = vec3(0.0);
+        float proxyDistance = 0.0;
+        float cmoWeight = 0.0;
+        vec4 cmo = vec4(0.0);
+        if (coverage < 1.0 || !finite3(screen)) {
+            if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
+            cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
+            if (cmoWeight < 1.0) {
+                probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
+                vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
+                env = probe.rgb + (1.0 - probe.a) * sky;
+            } else {
+                env = cmo.rgb;
+            }
+        }
+        vec3 radiance = mix(env, screen, coverage);
+        if (!finite3(radiance)) radiance = env;
+        reflection = vec4(max(radiance, vec3(0.0)), coverage);
+        float rest = (1.0 - coverage) * (1.0 - cmoWeight);
+        method = vec4(coverage, rest * probe.a, rest * (1.0 - probe.a), (1.0 - coverage) * cmoWeight);
+        float top = max(max(method.r, method.g), max(method.b, method.a));
+        distance_ = method.r >= top ? hitDistance : method.a >= top ? cmo.a : method.b >= top ? kSkyDistance : proxyDistance;
+    }
+    imageStore(reflectionOut, out_, reflection);
+    imageStore(methodOut, out_, method);
+    imageStore(distanceOut, out_, vec4(distance_));
+}
