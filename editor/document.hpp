@@ -1,4 +1,4 @@
-// The editor's document (DESIGN.md section 9): the glTF scene and the settings, changed only
+// The editor's document (docs/design.md section 9, the editor): the glTF scene and the settings, changed only
 // through commands on one stack, so that every edit can be undone and the ImGui panels and the
 // --script driver make exactly the same edits. Pure C++: no window, no device (tested by
 // editor/tests/document_test.cpp).

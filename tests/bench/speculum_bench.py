@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""speculum-bench: speed against accuracy for every reflection method (DESIGN.md section 7).
+"""speculum-bench: speed against accuracy for every reflection method (docs/design.md section 7, measurement).
 
     speculum-bench --suite tests/bench/suite.json --out DIR
 

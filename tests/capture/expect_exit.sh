@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # expect_exit.sh CODE PATTERN CMD...: passes when CMD exits with CODE and its stderr+stdout
-# contains PATTERN (grep -E). Used for the command-line contract of DESIGN.md section 6.
+# contains PATTERN (grep -E). Used for the command-line contract of docs/design.md section 6 (command lines).
 code=$1; pattern=$2; shift 2
 out=$("$@" 2>&1); got=$?
 if [[ $got -ne $code ]]; then

@@ -1,4 +1,4 @@
-// Accuracy metrics of DESIGN.md section 7, written once for the accuracy tests and the bench:
+// Accuracy metrics of docs/design.md section 7 (measurement), written once for the accuracy tests and the bench:
 // PSNR, mean absolute error and gross-error share on reflective pixels, and excess flicker
 // over a camera path. Values are compared as "clamped linear": each image is multiplied by
 // `scale` (the scene's exposure, so that 1 is what the display shows as white) and clamped to

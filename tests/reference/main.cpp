@@ -1,4 +1,4 @@
-// speculum-reference: ground-truth renders of a glTF scene (DESIGN.md sections 6 and 7).
+// speculum-reference: ground-truth renders of a glTF scene (docs/design.md sections 6 and 7).
 // Takes speculum-capture's scene and camera flags and writes the same file names
 // (NAME.FFFF.exr, color.FFFF.png) plus reference.json (time and rays per frame).
 // Exit 0 done, 2 bad arguments, 3 bad scene or settings file.

@@ -1,4 +1,4 @@
-// speculum-reference: the Embree ground-truth renderer (DESIGN.md section 7). It shades every
+// speculum-reference: the Embree ground-truth renderer (docs/design.md section 7, ground truth). It shades every
 // hit point with the engine's model (shaders/engine/lighting.frag, shaders/common/brdf.glsl)
 // and replaces the split-sum specular ambient of reflective materials by traced reflections:
 // exact mirror recursion, GGX visible-normal sampling for glossy lobes. README.md in this folder

@@ -1,5 +1,5 @@
 // speculum-capture: headless renders of a scene to EXR/PNG AOVs plus timings.json.
-// Contract: DESIGN.md section 6. Exit 0 done, 2 bad arguments, 3 bad scene or settings,
+// Contract: docs/design.md section 6 (command-line contracts). Exit 0 done, 2 bad arguments, 3 bad scene or settings,
 // 4 no usable Vulkan device.
 #include "speculum/app/output.hpp"
 

@@ -1,4 +1,4 @@
-// Errors that map to the command-line exit statuses of DESIGN.md section 6, and logging.
+// Errors that map to the command-line exit statuses of docs/design.md section 6 (command lines), and logging.
 #pragma once
 #include <stdexcept>
 #include <string>

@@ -1,5 +1,5 @@
 // The frame graph: declare passes and resources, compile (pure CPU), execute (Vulkan).
-// After Frostbite's FrameGraph as Filament and Granite implement it. See DESIGN.md section 3.
+// After Frostbite's FrameGraph as Filament and Granite implement it. See docs/design.md section 3 (the frame graph).
 //
 //   FrameGraph fg({1280, 720});
 //   struct GBuf { TextureHandle albedo; TextureHandle depth; };
@@ -114,7 +114,7 @@ struct ImportedBuffer {
 class FrameGraph;
 class PassContext;
 
-// History that lives across frames (DESIGN.md section 3): two images of one description that the
+// History that lives across frames (docs/design.md section 3, frame graph): two images of one description that the
 // graph swaps each frame. FrameGraph::importHistory() gives this frame's `previous` (what the last
 // executed frame wrote) and the `current` image to write; execute() commits it: when a pass that
 // survived culling wrote `current`, it becomes the next frame's previous and the history is valid;

@@ -1,5 +1,5 @@
 // The engine's scene: what a glTF file holds, in the form the renderer and the reference use.
-// Loading validates everything (DESIGN.md section 5); errors throw speculum::Error with
+// Loading validates everything (docs/design.md section 5, scenes); errors throw speculum::Error with
 // ExitCode::BadInput and a message that names the file and the problem.
 #pragma once
 
@@ -85,7 +85,7 @@ struct Material {
     std::optional<MaterialReflections> reflections;  // SPECULUM_reflections
 };
 
-// Every lit material reflects (DESIGN.md section 4): SPECULUM_reflections only tunes it or turns
+// Every lit material reflects (docs/design.md section 4, reflections): SPECULUM_reflections only tunes it or turns
 // it off, so a plain glTF export's chrome reflects. Unlit materials never reflect. The renderer,
 // the reflections module and the reference renderer all ask this one function.
 MaterialReflections reflectionsOf(const Material& material);

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """speculum-probes place: the fewest CMOs, the lowest resolutions and their order that meet an
-accuracy budget against the reference renderer (DESIGN.md section 4; seed 000 section 3.8).
+accuracy budget against the reference renderer (docs/design.md section 4, probes; seed 000 section 3.8).
 
     speculum-probes place --scene FILE --budget-db D [--views CAM1,CAM2,...] [--size WxH]
                           [--max-cmos N] [--resolutions 64,128,256] [--spp N]

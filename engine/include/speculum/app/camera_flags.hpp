@@ -1,5 +1,5 @@
 // The scene-and-camera command-line flags that speculum-capture and speculum-reference share
-// (DESIGN.md section 6): parsing of lists, vectors and sizes, and the choice of camera per
+// (docs/design.md section 6, command lines): parsing of lists, vectors and sizes, and the choice of camera per
 // output frame, so that both tools render exactly the same views for the same flags.
 #pragma once
 

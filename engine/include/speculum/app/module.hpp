@@ -1,4 +1,4 @@
-// The seam between the engine and its modules (DESIGN.md section 4). A module tells its host
+// The seam between the engine and its modules (docs/design.md section 4, modules). A module tells its host
 // what it is (ModuleInfo: its settings table, the AOVs it can provide, its debug views); the host
 // (capture, game, editor, bench) registers that with its FrameRunner and composes the modules in
 // order in a LitHook, handing one module's typed output handles to the next (probes ->
