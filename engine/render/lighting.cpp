@@ -160,10 +160,7 @@ TextureHandle Renderer::addLightingPass(FrameGraph& graph, const FrameInputs& fr
     const auto& d = graph.addPass<LightingData>(
         "render.lighting", PassType::Raster,
         [&](PassBuilder& b, LightingData& data) {
-            data.g.depth = b.read(gbuffer.depth, TextureUsage::Sampled);
-            data.g.albedo = b.read(gbuffer.albedo, TextureUsage::Sampled);
-            data.g.normal = b.read(gbuffer.normal, TextureUsage::Sampled);
-            data.g.emissive = b.read(gbuffer.emissive, TextureUsage::Sampled);
+            data.g = readSurfaceAttachments(b, gbuffer);
             if (gbuffer.shadowMask.valid())
                 data.g.shadowMask = b.read(gbuffer.shadowMask, TextureUsage::Sampled);
             data.linear = b.write(b.create("render.linear", TextureDesc{.format = kLinearFormat}),

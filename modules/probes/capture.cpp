@@ -43,10 +43,7 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
     const auto& b = fg.addPass<Bounce>(
         "probes.capture_bounce", PassType::Compute,
         [&](PassBuilder& pb, Bounce& d) {
-            d.g.depth = pb.read(g.depth, TextureUsage::Sampled);
-            d.g.albedo = pb.read(g.albedo, TextureUsage::Sampled);
-            d.g.normal = pb.read(g.normal, TextureUsage::Sampled);
-            d.g.emissive = pb.read(g.emissive, TextureUsage::Sampled);
+            d.g = render::readSurfaceAttachments(pb, g);
             d.lit = pb.read(lit, TextureUsage::Sampled);
             d.array = pb.read(array, TextureUsage::Sampled);
             d.recs = pb.read(recs, BufferUsage::StorageRead);

@@ -89,7 +89,7 @@ int backFacesSeen(const Scene& scene, glm::vec3 center) {
     return int(std::count(back.begin(), back.end(), true));
 }
 
-// The arrays' mip that is a CMO's level 0: the one of its own face size (shaders/common/cmo.h).
+// The arrays' mip that is a CMO's level 0: the one of its own face size (modules/probes/shaders/cmo.h).
 uint32_t baseMip(uint32_t arrayFaceSize, const CmoInfo& info) {
     return uint32_t(std::countr_zero(arrayFaceSize / info.probe.resolution));
 }

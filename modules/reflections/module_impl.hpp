@@ -16,7 +16,7 @@
 
 namespace speculum::reflections {
 
-// The frame uniforms, declared once for C++ and GLSL (shaders/reflections/frame.h).
+// The frame uniforms, declared once for C++ and GLSL (modules/reflections/shaders/frame.h).
 using FrameUniforms = shader::ReflectionFrame;
 static_assert(offsetof(FrameUniforms, eye) == 256 && offsetof(FrameUniforms, znear) == 268);
 static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, maxIterations) == 288);
@@ -95,7 +95,7 @@ struct Reflections::Impl {
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels);
     // reflections.trace; at half resolution it also writes the guide (which full pixel each half
-    // pixel traces, shaders/reflections/guide.glsl) and the hit image is half-size.
+    // pixel traces, modules/reflections/shaders/guide.glsl) and the hit image is half-size.
     struct Traced {
         TextureHandle hit, guide;  // guide: half resolution only
     };

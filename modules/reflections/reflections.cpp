@@ -170,7 +170,7 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
 gpu::DescriptorWriter Reflections::Impl::writer() const {
     gpu::DescriptorWriter w;
     // One buffer, read twice: as the storage buffer `rf` and its leading matrices as the uniform
-    // block `rfm` (shaders/reflections/frame.h says why).
+    // block `rfm` (modules/reflections/shaders/frame.h says why).
     w.buffer("rf", uniforms.get()).buffer("rfm", uniforms.get());
     return w;
 }

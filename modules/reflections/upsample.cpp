@@ -1,4 +1,4 @@
-// reflections.upsample: see speculum/reflections/upsample.hpp and shaders/reflections/upsample.comp.
+// reflections.upsample: see speculum/reflections/upsample.hpp and modules/reflections/shaders/upsample.comp.
 #include "speculum/reflections/upsample.hpp"
 
 #include "reflections/shaders/upsample.h"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The trace skips what the resolve's fades would weigh by zero (shaders/reflections/trace.comp):
+"""The trace skips what the resolve's fades would weigh by zero (modules/reflections/shaders/trace.comp):
 rays the camera fade zeroes are not traced, and rays end where the distance fade reaches 0
 (miss code -5). Checked on the gallery at 320x180 through the `hit` and `method` AOVs:
 

@@ -1,4 +1,4 @@
-// CMOs on lavapipe: the tracers of shaders/common/cmo.glsl on a CMO captured by the probes
+// CMOs on lavapipe: the tracers of modules/probes/shaders/cmo.glsl on a CMO captured by the probes
 // module in an analytic scene (a 4 m box room with a 0.8 m box in it), against CPU ray casts;
 // the hierarchical tracer against the constant-step one at a fine step; and the module's CMO
 // path end to end (a CMO changes the reflection where screen space cannot see).
@@ -107,7 +107,7 @@ bool cmoSees(glm::dvec3 q) {
     return !(box.x <= box.y && box.y > 0.0 && box.x < len - 1e-4);
 }
 
-// The query of shaders/probes/cmo_trace_test.comp.
+// The query of modules/probes/shaders/cmo_trace_test.comp.
 struct Query {
     glm::vec4 origin;  // w 1: on a surface
     glm::vec4 dir;     // w ray length

@@ -1,5 +1,5 @@
 // The probes module on lavapipe: a captured face against a direct render of the same camera,
-// the parallax lookup of common/probes.glsl against CPU ray-box and ray-sphere intersections,
+// the parallax lookup of probes/shaders/probes.glsl against CPU ray-box and ray-sphere intersections,
 // the fallback chain's weights (method AOV) on the probe scenes, blending by order, and
 // time-sliced updates against a once-baked cube.
 #include "render_test_support.hpp"
@@ -56,14 +56,14 @@ constexpr float kGoldenFail = 0.02f;
 constexpr double kGoldenFailShare = 0.005;
 constexpr float kGoldenHardFail = 0.25f;
 
-// The query record of shaders/probes/lookup_test.comp.
+// The query record of modules/probes/shaders/lookup_test.comp.
 struct Query {
     glm::vec4 p;  // w roughness
     glm::vec4 n;
     glm::vec4 r;
 };
 
-// Runs shaders/probes/lookup_test.comp: common/probes.glsl on a buffer of queries, with one or
+// Runs modules/probes/shaders/lookup_test.comp: probes/shaders/probes.glsl on a buffer of queries, with one or
 // two probe records and a cube array whose cube i is one flat colour (cube 0 red, cube 1 green),
 // so that sampleProbes's rgb reads back each probe's blend weight.
 class LookupRig {

@@ -6,20 +6,9 @@
 namespace speculum::render {
 namespace {
 
-glm::ivec2 pixelOf(const CameraState& c, glm::vec3 world) {
-    glm::vec4 clip = c.viewProj * glm::vec4(world, 1.0f);
-    glm::vec2 ndc = glm::vec2(clip) / clip.w;
-    return glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * glm::vec2(c.width, c.height)));
-}
+using test::pixelOf;
 
-class RenderShadow : public ::testing::Test {
-protected:
-    void TearDown() override {
-        EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
-        for (const std::string& m : gpu::Context::validationMessages()) ADD_FAILURE() << m;
-    }
-    gpu::Context ctx;
-};
+class RenderShadow : public test::ValidatedContextTest {};
 
 // A ground plane, a square floating above it and an oblique sun: the mask is 0 in the
 // occluder's shadow, 1 on open ground and on the occluder's own sunlit top (no acne there).

@@ -32,6 +32,24 @@ protected:
     static inline gpu::Context* ctx_ = nullptr;
 };
 
+// A suite with a context of its own per test whose teardown fails the test on any validation
+// message: `class MySuite : public ValidatedContextTest {};`, then ctx in the tests.
+class ValidatedContextTest : public ::testing::Test {
+protected:
+    void TearDown() override {
+        EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
+        for (const std::string& m : gpu::Context::validationMessages()) ADD_FAILURE() << m;
+    }
+    gpu::Context ctx;
+};
+
+// The pixel a world point lands in (its centre is the nearest pixel centre).
+inline glm::ivec2 pixelOf(const CameraState& c, glm::vec3 world) {
+    glm::vec4 clip = c.viewProj * glm::vec4(world, 1.0f);
+    glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * glm::vec2(c.width, c.height)));
+}
+
 // A square of side 2 * half in the plane through `center` spanned by axes u and v; its front
 // face (counter-clockwise, glTF) looks along cross(u, v).
 inline Primitive square(glm::vec3 center, glm::vec3 u, glm::vec3 v, float half, int material) {

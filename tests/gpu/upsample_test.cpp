@@ -1,6 +1,6 @@
 // reflections.upsample alone, on synthetic images (issue 13): across a depth edge the joint
 // bilateral upsampler takes nothing from the other side, and a constant image comes back as the
-// constant. The guide is made on the CPU with the rule of shaders/reflections/guide.glsl
+// constant. The guide is made on the CPU with the rule of modules/reflections/shaders/guide.glsl
 // (checkerboard of the closest and the farthest of each 2x2).
 #include "speculum/reflections/upsample.hpp"
 #include "render_test_support.hpp"
@@ -46,7 +46,7 @@ std::vector<glm::vec4> makeGuide(const std::vector<float>& depth) {
             }
             // World = (ndc, depth) under the identity matrix of upsample() below.
             glm::vec2 px{float(2 * x + (best & 1)) + 0.5f, float(2 * y + (best >> 1)) + 0.5f};
-            // w: packGuide() of shaders/reflections/guide.glsl for a reflective pixel with
+            // w: packGuide() of modules/reflections/shaders/guide.glsl for a reflective pixel with
             // roughness 0 and normal +z (octahedral 0.5, 0.5 -> 64 of 127).
             uint32_t bits = best | (0u << 2) | (64u << 8) | (64u << 15);
             guide[y * LW + x] = {px.x / W * 2.0f - 1.0f, px.y / H * 2.0f - 1.0f, bestDepth, float(1u + bits)};

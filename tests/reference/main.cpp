@@ -7,6 +7,7 @@
 #include "speculum/app/camera_flags.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/output.hpp"
+#include "speculum/app/camera_options.hpp"
 #include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
 #include "speculum/limits.hpp"
@@ -26,9 +27,9 @@ namespace {
 const std::vector<std::string> kAovs = {"linear", "color", "reflection", "depth", "normal", "reflective"};
 
 struct Options {
-    std::string scene, camera, eye, target, up = "0,1,0", size = "960x540", path, settingsFile, out;
+    app::CameraFlags view;  // --scene, --camera, --eye, --target, --up, --fov, --path
+    std::string size = "960x540", settingsFile, out;
     std::string aov = "linear,color,reflection,reflective";
-    float fov = 60.0f;
     uint32_t spp = 64, bounces = 2, threads = 0;
     uint64_t seed = 1;
     std::vector<std::string> sets;
@@ -105,7 +106,7 @@ void progressBar(size_t frame, size_t frames, uint32_t done, uint32_t total,
 
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
-    if (o.scene.empty()) throw argumentError("--scene FILE is required");
+    if (o.view.scenePath.empty()) throw argumentError("--scene FILE is required");
     if (o.spp < 1 || o.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
     if (o.bounces < 1 || o.bounces > 64) throw argumentError("--bounces must be in 1..64");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
@@ -119,9 +120,9 @@ int run(const Options& o) {
     app::applyRenderSettings(settings, ro);
 
     auto setupStart = std::chrono::steady_clock::now();
-    Scene scene = loadScene(o.scene);
+    Scene scene = loadScene(o.view.scenePath);
     std::vector<render::CameraState> views =
-        app::selectCameras({o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, 1);
+        app::selectCameras(o.view, scene, w, h, 1);
     app::prepareOutputDir(o.out);  // before the BVH build and the sky prefilter
     checkReferenceBudget(scene);
     reference::Options ropt{o.spp, o.bounces, o.seed, o.threads, ro.exposure, {}};
@@ -142,7 +143,7 @@ int run(const Options& o) {
         std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
                     raysPerSecond / 1e6);
     }
-    nlohmann::json report = {{"scene", o.scene},         {"width", w},
+    nlohmann::json report = {{"scene", o.view.scenePath},         {"width", w},
                              {"height", h},              {"spp", o.spp},
                              {"bounces", o.bounces},     {"seed", o.seed},
                              {"threads", o.threads},     {"exposure", renderer.exposure()},
@@ -157,14 +158,7 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
     Options o;
     CLI::App cli{"speculum-reference: ground-truth Embree renders of a glTF scene, as speculum-capture frames it"};
-    cli.add_option("--scene", o.scene, "glTF scene (.gltf or .glb)");
-    cli.add_option("--camera", o.camera, "camera by glTF name");
-    cli.add_option("--eye", o.eye, "camera position X,Y,Z");
-    cli.add_option("--target", o.target, "point looked at X,Y,Z");
-    cli.add_option("--up", o.up, "up vector X,Y,Z (default 0,1,0)");
-    cli.add_option("--fov", o.fov, "vertical field of view in degrees (with --eye; default 60)");
-    cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
-    cli.add_option("--size", o.size, "image size WxH (default 960x540)");
+    app::addCameraOptions(cli, o.view, o.size);
     cli.add_option("--spp", o.spp, "glossy reflection samples per pixel (default 64)");
     cli.add_option("--bounces", o.bounces, "reflective surfaces traced this deep (default 2)");
     cli.add_option("--seed", o.seed, "random seed (same seed, same image; default 1)");

@@ -168,7 +168,7 @@ Surface Renderer::Impl::surface(const Hit& hit, glm::vec3 dir) const {
     if (const Image* img = usableImage(m.baseColorTexture)) base *= sampleTexture(*img, uv, true);
     s.baseColor = glm::vec3(base);
     s.unlit = m.unlit;
-    // As the module's pixelMaterial (shaders/reflections/material.glsl): unlit never reflects.
+    // As the module's pixelMaterial (modules/reflections/shaders/material.glsl): unlit never reflects.
     s.reflective = reflects(m);
     glm::vec3 n = glm::normalize(lerp(g.normals));
     if (m.unlit) {

@@ -33,7 +33,7 @@ constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 
 }  // namespace
 
-// shaders/probes/debug.comp: two textures, the probe records (an anonymous block: its type
+// modules/probes/shaders/debug.comp: two textures, the probe records (an anonymous block: its type
 // name), the probe cubes, the output image; bindings 0-4 by way of PROBES_*_BINDING.
 TEST(Reflect, ProbesDebugShaderAsTheGlslDeclaresIt) {
     auto b = reflect("probes/debug.comp", VK_SHADER_STAGE_COMPUTE_BIT);
@@ -45,7 +45,7 @@ TEST(Reflect, ProbesDebugShaderAsTheGlslDeclaresIt) {
     expectBinding(b[4], "outImage", 4, kStorageImage, kCompute);
 }
 
-// shaders/tests/reflect_kinds.comp: every kind, an array, a named block (its instance name)
+// tests/shaders/reflect_kinds.comp: every kind, an array, a named block (its instance name)
 // and a binding main() never reads, which is listed: the table is the declaration.
 TEST(Reflect, KindsArraysBlockNamesAndUnusedBindings) {
     auto b = reflect("tests/reflect_kinds.comp", VK_SHADER_STAGE_COMPUTE_BIT);

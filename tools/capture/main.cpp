@@ -8,6 +8,7 @@
 #include "speculum/app/device_budget.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
+#include "speculum/app/camera_options.hpp"
 #include "speculum/app/tool_main.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/resources.hpp"
@@ -27,9 +28,9 @@ using namespace speculum;
 namespace {
 
 struct Options {
-    std::string scene, camera, eye, target, up = "0,1,0", size = "960x540", path, settingsFile, out, device;
+    app::CameraFlags view;  // --scene, --camera, --eye, --target, --up, --fov, --path
+    std::string size = "960x540", settingsFile, out, device;
     std::string aov = "color";
-    float fov = 60.0f;
     int frames = 1;
     int warmup = 3;
     std::vector<std::string> sets;
@@ -75,10 +76,10 @@ void checkOutputNames(const std::string& out, const std::vector<std::string>& ao
 
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
-    if (o.scene.empty()) throw argumentError("--scene FILE is required");
+    if (o.view.scenePath.empty()) throw argumentError("--scene FILE is required");
     if (o.frames < 1 || o.frames > 100000) throw argumentError("--frames must be in 1..100000");
     if (o.warmup < 0 || o.warmup > 1000) throw argumentError("--warmup must be in 0..1000");
-    if (o.framesGiven && !o.path.empty())
+    if (o.framesGiven && !o.view.path.empty())
         throw argumentError(
             "--frames does not apply with --path: the path's \"frames\" sets how many frames are rendered");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
@@ -89,11 +90,11 @@ int run(const Options& o) {
     if (o.settingsGiven) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
 
-    Scene scene = loadScene(o.scene);
+    Scene scene = loadScene(o.view.scenePath);
     std::vector<render::CameraState> cameras = app::selectCameras(
-        {o.scene, o.camera, o.eye, o.target, o.up, o.path, o.fov}, scene, w, h, size_t(o.frames));
+        o.view, scene, w, h, size_t(o.frames));
     app::prepareOutputDir(o.out);  // before the device: a bad --out costs no rendering
-    checkOutputNames(o.out, aovs, cameras.size(), !o.path.empty());
+    checkOutputNames(o.out, aovs, cameras.size(), !o.view.path.empty());
 
     gpu::Context ctx(gpu::ContextOptions{.deviceName = o.device});
     uint32_t maxDim = ctx.properties().limits.maxImageDimension2D;
@@ -120,7 +121,7 @@ int run(const Options& o) {
     }
 
     app::TimingLog timings;
-    bool writeEvery = !o.path.empty();
+    bool writeEvery = !o.view.path.empty();
     for (size_t i = 0; i < cameras.size(); ++i) {
         frame.previousCamera = frame.camera;
         frame.camera = cameras[i];
@@ -161,16 +162,9 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
     Options o;
     CLI::App cli{"speculum-capture: render a glTF scene headless to EXR/PNG AOVs and timings.json"};
-    cli.add_option("--scene", o.scene, "glTF scene (.gltf or .glb)");
-    cli.add_option("--camera", o.camera, "camera by glTF name");
-    cli.add_option("--eye", o.eye, "camera position X,Y,Z");
-    cli.add_option("--target", o.target, "point looked at X,Y,Z");
-    cli.add_option("--up", o.up, "up vector X,Y,Z (default 0,1,0)");
-    cli.add_option("--fov", o.fov, "vertical field of view in degrees (with --eye)");
-    cli.add_option("--size", o.size, "image size WxH (default 960x540)");
+    app::addCameraOptions(cli, o.view, o.size);
     cli.add_option("--frames", o.frames, "frames to render and time (default 1; not with --path)");
     cli.add_option("--warmup", o.warmup, "untimed frames first (default 3)");
-    cli.add_option("--path", o.path, "JSON camera path: one output frame per path frame");
     cli.add_option("--settings", o.settingsFile, "JSON settings file");
     cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable)");
     const std::string aovHelp = "comma list: " + knownAovs(",") + " (default color)";

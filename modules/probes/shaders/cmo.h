@@ -1,5 +1,5 @@
 // A cubemap-tracing object (CMO, seed 000) as the shaders see it: declared once for C++
-// (modules/probes, which writes the records) and GLSL (shaders/common/cmo.glsl, which traces
+// (modules/probes, which writes the records) and GLSL (modules/probes/shaders/cmo.glsl, which traces
 // them), std430. The CMO arrays (radiance, distance hierarchy, attributes) hold six layers per
 // CMO; a CMO captured below the arrays' largest face size uses the mip whose size is its own
 // as its level 0 (`baseMip`), so every CMO keeps its resolution in one set of arrays.

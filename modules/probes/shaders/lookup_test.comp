@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test-only (tests/gpu/probes_test.cpp): runs common/probes.glsl on a buffer of queries so the
+// Test-only (tests/gpu/probes_test.cpp): runs probes/shaders/probes.glsl on a buffer of queries so the
 // CPU can check the parallax lookup and the blend against analytic ray-shape intersections.
 // Per query i, results[4i .. 4i+3]: probeDirection for probe 0, for probe 1 (when there is one),
 // the influences (x probe 0, y probe 1), and sampleProbes(probe count, ...) (rgb, a total weight).

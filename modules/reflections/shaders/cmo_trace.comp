@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // reflections.cmo_trace: the part of each reflected ray that screen space leaves uncovered,
-// traced through the CMOs in their order (shaders/common/cmo.glsl: the hierarchical or the
+// traced through the CMOs in their order (modules/probes/shaders/cmo.glsl: the hierarchical or the
 // linear tracer), a hit shaded for the reflected ray's direction, and self-reflections: a hit
 // on a mirror-masked surface reflects again, up to reflections.cmo_bounces, each ray with its
 // own start where it leaves the surface (cmoLeaveSurface). The resolve takes the result as the chain's second link.

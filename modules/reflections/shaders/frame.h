@@ -1,5 +1,5 @@
 // The reflections module's per-frame constants, declared once for C++ (modules/reflections,
-// which fills it) and GLSL (shaders/reflections/common.glsl, which reads it as `rf`), with one
+// which fills it) and GLSL (modules/reflections/shaders/common.glsl, which reads it as `rf`), with one
 // named field per value. A read-only storage buffer in GLSL (common.glsl says why), std140:
 // the matrices and `size` sit at 16-byte boundaries, `znear` fills `eye`'s fourth word, and the
 // scalars pack four to a row, which C++ lays out alike (static_asserts in
@@ -60,7 +60,7 @@ SPECULUM_BLOCK(layout(set = 0, binding = 0, std140) readonly buffer, ReflectionF
     float temporalClip;   // history clipped to mean +- this many standard deviations
     uint frameIndex;      // frames since the module was made (noise decorrelation)
     uint temporalValid;   // the accumulated history and its normals are this frame's previous
-    // CMO tracing (reflections.cmo_*; shaders/reflections/cmo_trace.comp).
+    // CMO tracing (reflections.cmo_*; modules/reflections/shaders/cmo_trace.comp).
     uint cmoCount;  // CMOs in the chain (0: off or none)
     float cmoMaxIterations;
     float cmoLinearStep;

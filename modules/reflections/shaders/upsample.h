@@ -1,5 +1,5 @@
 // The joint bilateral upsampler's push constants, declared once for C++
-// (modules/reflections/upsample.cpp fills them) and GLSL (shaders/reflections/upsample.comp).
+// (modules/reflections/upsample.cpp fills them) and GLSL (modules/reflections/shaders/upsample.comp).
 // std430 push-constant layout: the matrix, then two 16-byte rows.
 #ifndef SPECULUM_REFLECTIONS_UPSAMPLE_H
 #define SPECULUM_REFLECTIONS_UPSAMPLE_H

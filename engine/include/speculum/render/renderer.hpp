@@ -90,6 +90,18 @@ struct GBuffer {
     TextureHandle shadowMask;
 };
 
+// A pass's read of the four surface attachments (depth, albedo, normal, emissive) as sampled
+// textures: what shading a G-buffer pixel needs (render.lighting, probes.capture_bounce). The
+// motion and the shadow mask are left to the passes that use them.
+inline GBuffer readSurfaceAttachments(PassBuilder& b, const GBuffer& g) {
+    GBuffer r;
+    r.depth = b.read(g.depth, TextureUsage::Sampled);
+    r.albedo = b.read(g.albedo, TextureUsage::Sampled);
+    r.normal = b.read(g.normal, TextureUsage::Sampled);
+    r.emissive = b.read(g.emissive, TextureUsage::Sampled);
+    return r;
+}
+
 class Renderer {
 public:
     // Uploads meshes, textures and the environment named by the scene's extras (or a grey sky).

@@ -58,7 +58,7 @@ struct ProbeInfo {
 
 // The scene's CMOs (kind cmo) as the tracer reads them: arrays of six layers per CMO, each
 // with a mip chain; a CMO below the largest resolution starts at the mip of its own size
-// (shaders/common/cmo.h). All GENERAL between uses.
+// (modules/probes/shaders/cmo.h). All GENERAL between uses.
 struct CmoSet {
     TextureHandle radiance;  // RGBA16F, cube-compatible: rgb lit radiance (box mips), a sun visibility + 2 mirror
     TextureHandle distance;  // RG32F: min, max world distance to the CMO's centre per cell (the hierarchy)

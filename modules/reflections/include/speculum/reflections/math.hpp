@@ -1,6 +1,6 @@
 // CPU twins of the module's shader math, for unit tests and tools: Hi-Z level sizes and cell
 // footprints, roughness to cone angle, isosceles-triangle incircles. Each function matches the
-// GLSL in shaders/reflections/ line for line in what it computes.
+// GLSL in modules/reflections/shaders/ line for line in what it computes.
 #pragma once
 
 #include <cstdint>

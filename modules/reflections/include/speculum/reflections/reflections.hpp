@@ -110,7 +110,7 @@ struct ReflectionOutputs {
     TextureHandle visibility;   // R8 pre-integrated visibility pyramid
     TextureHandle colorPyramid; // RGBA16F pre-convolved colour pyramid
     TextureHandle hizView;      // RGBA16F view of one Hi-Z level (only when asked for)
-    TextureHandle guide;        // half resolution only: RGBA32F, shaders/reflections/guide.glsl
+    TextureHandle guide;        // half resolution only: RGBA32F, modules/reflections/shaders/guide.glsl
 };
 
 class Reflections {
