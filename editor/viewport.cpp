@@ -38,10 +38,9 @@ void Viewport::rebuild() {
     reflections_.reset();
     probes_.reset();
     renderer_.reset();
-    render::RendererOptions options;
-    app::applyRenderSettings(doc_.settings(), options);
-    renderer_ = std::make_unique<render::Renderer>(ctx_, doc_.scene(), options);
-    probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, probes::ProbeSettings::from(doc_.settings()));
+    renderer_ = std::make_unique<render::Renderer>(ctx_, doc_.scene(),
+                                                   fromSettings<render::RendererOptions>(doc_.settings()));
+    probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, fromSettings<probes::ProbeSettings>(doc_.settings()));
     reflections_ = std::make_unique<reflections::Reflections>(ctx_, *renderer_);
     runner_ = std::make_unique<app::FrameRunner>(ctx_, *renderer_, width_, height_);
     first_ = true;
@@ -74,7 +73,7 @@ void Viewport::sync() {
         vkDeviceWaitIdle(ctx_.device());
         renderer_->updateMaterialFactors();
         reflections_.reset();
-        probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, probes::ProbeSettings::from(doc_.settings()));
+        probes_ = std::make_unique<probes::Probes>(ctx_, *renderer_, fromSettings<probes::ProbeSettings>(doc_.settings()));
         reflections_ = std::make_unique<reflections::Reflections>(ctx_, *renderer_);
         bakePending_ = true;
         first_ = true;

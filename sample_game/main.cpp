@@ -272,7 +272,7 @@ GameApp::GameApp(Options opt)
       window_("Speculum", widthOf(opt_), heightOf(opt_)),
       ctx_(contextOptions(opt_)),
       renderer_(fitted(ctx_, scene_), scene_),
-      probes_(ctx_, renderer_, probes::ProbeSettings::from(settings_)),
+      probes_(ctx_, renderer_, fromSettings<probes::ProbeSettings>(settings_)),
       module_(ctx_, renderer_),
       swapchain_(ctx_, window_) {
     if (game_.collectibles().empty())

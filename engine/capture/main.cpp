@@ -101,10 +101,8 @@ int run(const Options& o) {
                             ctx.deviceName() + ")");
     app::checkSceneFitsDevice(ctx, scene);
 
-    render::RendererOptions ro;
-    app::applyRenderSettings(settings, ro);
-    render::Renderer renderer(ctx, scene, ro);
-    probes::Probes probeModule(ctx, renderer, probes::ProbeSettings::from(settings));
+    render::Renderer renderer(ctx, scene, fromSettings<render::RendererOptions>(settings));
+    probes::Probes probeModule(ctx, renderer, fromSettings<probes::ProbeSettings>(settings));
     reflections::Reflections module(ctx, renderer);
     app::FrameRunner runner(ctx, renderer, w, h);
     // Probes update before each frame's graph is built (their captures are graphs of their own).

@@ -10,7 +10,7 @@ bool probesInUse(const Settings& settings) {
 
 app::LitHook litHook(Reflections& module, probes::Probes* probes, const Settings& settings,
                      const render::FrameInputs& frame) {
-    ReflectionSettings s = ReflectionSettings::from(settings);
+    ReflectionSettings s = fromSettings<ReflectionSettings>(settings);
     // The probes' debug view, when the host's settings carry the probes' table.
     probes::DebugView probeView = probes && settings.find("probes.debug_view")
                                       ? probes::DebugView(settings.getInt("probes.debug_view"))

@@ -171,16 +171,12 @@ struct Composed {
     render::FrameInputs frame;
 
     Composed(const gpu::Context& ctx, const Scene& scene, uint32_t w, uint32_t h)
-        : renderer(ctx, scene, rendererOptions(settings)), probes(ctx, renderer, probes::ProbeSettings::from(settings)),
+        : renderer(ctx, scene, fromSettings<render::RendererOptions>(settings)),
+          probes(ctx, renderer, fromSettings<probes::ProbeSettings>(settings)),
           reflections(ctx, renderer), runner(ctx, renderer, w, h) {
         render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
         frame = {cam, cam};
         probes.update();
-    }
-    static render::RendererOptions rendererOptions(const Settings& s) {
-        render::RendererOptions ro;
-        app::applyRenderSettings(s, ro);
-        return ro;
     }
     app::FrameResult render(const std::vector<std::string>& aovs) {
         return runner.render(frame, aovs, reflections::litHook(reflections, &probes, settings, frame));
