@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,217 +62,136 @@ std::optional<FieldEdit> fieldWidget(const SettingDesc& d, double value) {
     return edit;
 }
 
-// ---- materials ----------------------------------------------------------------------------
+// ---- materials and probes ------------------------------------------------------------------
+// One row a field: its description and where it lives (a member, or a read and a write where the
+// value is not one member's, such as an optional's presence or a resolution's log2).
+
+namespace {
+
+template <size_t N>
+std::vector<std::string> choices(const std::array<const char*, N>& names) {
+    return {names.begin(), names.end()};
+}
+
+template <class T>
+const SettingField<T>& rowNamed(const SettingFields<T>& fields, const std::string& name, const char* kind) {
+    for (const SettingField<T>& row : fields.rows())
+        if (row.desc.name == name) return row;
+    throw std::logic_error(std::string("no ") + kind + " field " + name);
+}
+
+// Editing a reflections field writes the extension, with the effective values of the others.
+SettingField<Material> onReflections(SettingField<MaterialReflections> row) {
+    return {row.desc, nullptr,
+            [write = row.write](Material& m, double v) {
+                MaterialReflections r = reflectionsOf(m);
+                write(r, v);
+                m.reflections = r;
+            },
+            [read = row.read](const Material& m) { return read(reflectionsOf(m)); }};
+}
+
+const SettingFields<Material>& materialTable() {
+    using T = SettingType;
+    using R = MaterialReflections;
+    auto base = [](SettingDesc d, auto access) { return bindAccess<Material>(std::move(d), access); };
+    auto refl = [](SettingDesc d, auto access) { return onReflections(bindAccess<R>(std::move(d), access)); };
+    // Ranges and defaults from engine/scene/EXTENSIONS.md (SPECULUM_reflections) and glTF 2.0.
+    static const SettingFields<Material> table({
+        base({"material.metallic", T::Float, "", 0, 1, 1, {}, "glTF metallicFactor."},
+             [](auto& m) -> auto& { return m.metallic; }),
+        base({"material.roughness", T::Float, "", 0, 1, 1, {}, "glTF roughnessFactor (perceptual roughness)."},
+             [](auto& m) -> auto& { return m.roughness; }),
+        base({"material.base_r", T::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, red."},
+             [](auto& m) -> auto& { return m.baseColor.r; }),
+        base({"material.base_g", T::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, green."},
+             [](auto& m) -> auto& { return m.baseColor.g; }),
+        base({"material.base_b", T::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, blue."},
+             [](auto& m) -> auto& { return m.baseColor.b; }),
+        refl({"reflections.mode", T::Enum, "", 0, 3, 1, choices(kReflectionModeNames),
+              "SPECULUM_reflections mode: off, the whole chain, probes then sky, or local cubemaps only."},
+             [](auto& r) -> auto& { return r.mode; }),
+        refl({"reflections.roughness_scale", T::Float, "x", 0, 16, 1, {},
+              "Multiplies the material's roughness for reflections."},
+             [](auto& r) -> auto& { return r.roughnessScale; }),
+        onReflections({{"reflections.has_roughness_override", T::Bool, "", 0, 1, 0, {},
+                        "Replace the material's roughness for reflections by the override below."},
+                       nullptr,
+                       [](R& r, double v) {
+                           r.roughnessOverride =
+                               v != 0.0 ? std::optional<float>(r.roughnessOverride.value_or(0.0f)) : std::nullopt;
+                       },
+                       [](const R& r) { return r.roughnessOverride ? 1.0 : 0.0; }}),
+        onReflections({{"reflections.roughness_override", T::Float, "", 0, 1, 0, {},
+                        "The roughness reflections use when the override is on."},
+                       nullptr,
+                       [](R& r, double v) { r.roughnessOverride = float(v); },
+                       [](const R& r) { return double(r.roughnessOverride.value_or(0.0f)); }}),
+        refl({"reflections.max_screen_space_roughness", T::Float, "", 0, 1, 0.6, {},
+              "Above this roughness, screen-space tracing hands over to the probes and the sky."},
+             [](auto& r) -> auto& { return r.maxScreenSpaceRoughness; }),
+        refl({"reflections.trace_cmos", T::Bool, "", 0, 1, 1, {}, "Trace the cubemap objects (CMOs) for this material."},
+             [](auto& r) -> auto& { return r.traceCmos; }),
+        refl({"reflections.mirror_for_self_reflections", T::Bool, "", 0, 1, 0, {},
+              "The surface is a mirror for CMO self-reflections."},
+             [](auto& r) -> auto& { return r.mirrorForSelfReflections; }),
+    });
+    return table;
+}
+
+const SettingFields<ReflectionProbe>& probeTable() {
+    using T = SettingType;
+    using P = ReflectionProbe;
+    // engine/scene/EXTENSIONS.md, SPECULUM_reflection_probe.
+    static const SettingFields<P> table({
+        bind<&P::kind>({"probe.kind", T::Enum, "", 0, 1, 0, choices(kProbeKindNames),
+                        "A local cubemap, or a cubemap object (CMO) for tracing."}),
+        bind<&P::shape>({"probe.shape", T::Enum, "", 0, 1, 0, choices(kProbeShapeNames), "Influence and parallax shape."}),
+        bindAccess<P>({"probe.extents_x", T::Float, "m", 0.01, 100, 1, {},
+                       "Box half-extent along the node's x (sphere: the radius)."},
+                      [](auto& p) -> auto& { return p.extents.x; }),
+        bindAccess<P>({"probe.extents_y", T::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's y."},
+                      [](auto& p) -> auto& { return p.extents.y; }),
+        bindAccess<P>({"probe.extents_z", T::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's z."},
+                      [](auto& p) -> auto& { return p.extents.z; }),
+        bind<&P::blendDistance>({"probe.blend_distance", T::Float, "m", 0, 10, 0.5, {},
+                                 "Width of the fade at the influence's border."}),
+        {{"probe.resolution", T::Enum, "px", 0, 6, 4, {"8", "16", "32", "64", "128", "256", "512"},
+          "Cubemap face size in texels."},
+         nullptr,
+         [](P& p, double v) { p.resolution = 8u << std::clamp(int(v), 0, 6); },
+         [](const P& p) { return std::log2(double(std::max(8u, p.resolution))) - 3.0; }},
+        bind<&P::update>({"probe.update", T::Enum, "", 0, 3, 0, choices(kProbeUpdateNames),
+                          "When the probe captures: once at start, when asked, every frame, or one face per frame."}),
+        bind<&P::order>({"probe.order", T::Int, "", -100, 100, 0, {}, "Higher wins where probes overlap."}),
+    });
+    return table;
+}
+
+}  // namespace
 
 const std::vector<SettingDesc>& materialFields() {
-    // Ranges and defaults from engine/scene/EXTENSIONS.md (SPECULUM_reflections) and glTF 2.0.
-    static const std::vector<SettingDesc> fields = {
-        {"material.metallic", SettingType::Float, "", 0, 1, 1, {}, "glTF metallicFactor."},
-        {"material.roughness", SettingType::Float, "", 0, 1, 1, {}, "glTF roughnessFactor (perceptual roughness)."},
-        {"material.base_r", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, red."},
-        {"material.base_g", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, green."},
-        {"material.base_b", SettingType::Float, "", 0, 1, 1, {}, "glTF baseColorFactor, blue."},
-        {"reflections.mode",
-         SettingType::Enum,
-         "",
-         0,
-         3,
-         1,
-         {"off", "screen_space", "probes_only", "local_cubemap_only"},
-         "SPECULUM_reflections mode: off, the whole chain, probes then sky, or local cubemaps only."},
-        {"reflections.roughness_scale",
-         SettingType::Float,
-         "x",
-         0,
-         16,
-         1,
-         {},
-         "Multiplies the material's roughness for reflections."},
-        {"reflections.has_roughness_override",
-         SettingType::Bool,
-         "",
-         0,
-         1,
-         0,
-         {},
-         "Replace the material's roughness for reflections by the override below."},
-        {"reflections.roughness_override",
-         SettingType::Float,
-         "",
-         0,
-         1,
-         0,
-         {},
-         "The roughness reflections use when the override is on."},
-        {"reflections.max_screen_space_roughness",
-         SettingType::Float,
-         "",
-         0,
-         1,
-         0.6,
-         {},
-         "Above this roughness, screen-space tracing hands over to the probes and the sky."},
-        {"reflections.trace_cmos",
-         SettingType::Bool,
-         "",
-         0,
-         1,
-         1,
-         {},
-         "Trace the cubemap objects (CMOs) for this material."},
-        {"reflections.mirror_for_self_reflections",
-         SettingType::Bool,
-         "",
-         0,
-         1,
-         0,
-         {},
-         "The surface is a mirror for CMO self-reflections."},
-    };
-    return fields;
+    static const std::vector<SettingDesc> descs = materialTable().descs();
+    return descs;
 }
 
-double materialField(const Material& m, const std::string& n) {
-    MaterialReflections r = reflectionsOf(m);
-    if (n == "material.metallic") return m.metallic;
-    if (n == "material.roughness") return m.roughness;
-    if (n == "material.base_r") return m.baseColor.r;
-    if (n == "material.base_g") return m.baseColor.g;
-    if (n == "material.base_b") return m.baseColor.b;
-    if (n == "reflections.mode") return double(r.mode);
-    if (n == "reflections.roughness_scale") return r.roughnessScale;
-    if (n == "reflections.has_roughness_override") return r.roughnessOverride ? 1.0 : 0.0;
-    if (n == "reflections.roughness_override") return r.roughnessOverride.value_or(0.0f);
-    if (n == "reflections.max_screen_space_roughness") return r.maxScreenSpaceRoughness;
-    if (n == "reflections.trace_cmos") return r.traceCmos ? 1.0 : 0.0;
-    if (n == "reflections.mirror_for_self_reflections") return r.mirrorForSelfReflections ? 1.0 : 0.0;
-    throw std::logic_error("no material field " + n);
+double materialField(const Material& m, const std::string& name) {
+    return rowNamed(materialTable(), name, "material").read(m);
 }
 
-void setMaterialField(Material& m, const std::string& n, double v) {
-    float f = float(v);
-    if (n == "material.metallic")
-        m.metallic = f;
-    else if (n == "material.roughness")
-        m.roughness = f;
-    else if (n == "material.base_r")
-        m.baseColor.r = f;
-    else if (n == "material.base_g")
-        m.baseColor.g = f;
-    else if (n == "material.base_b")
-        m.baseColor.b = f;
-    else if (n.rfind("reflections.", 0) == 0) {
-        // Editing a reflections field writes the extension (with the effective values).
-        MaterialReflections r = reflectionsOf(m);
-        if (n == "reflections.mode")
-            r.mode = ReflectionMode(std::clamp(int(v), 0, 3));
-        else if (n == "reflections.roughness_scale")
-            r.roughnessScale = f;
-        else if (n == "reflections.has_roughness_override")
-            r.roughnessOverride = v != 0.0 ? std::optional<float>(r.roughnessOverride.value_or(0.0f)) : std::nullopt;
-        else if (n == "reflections.roughness_override")
-            r.roughnessOverride = f;
-        else if (n == "reflections.max_screen_space_roughness")
-            r.maxScreenSpaceRoughness = f;
-        else if (n == "reflections.trace_cmos")
-            r.traceCmos = v != 0.0;
-        else if (n == "reflections.mirror_for_self_reflections")
-            r.mirrorForSelfReflections = v != 0.0;
-        else
-            throw std::logic_error("no material field " + n);
-        m.reflections = r;
-    } else {
-        throw std::logic_error("no material field " + n);
-    }
+void setMaterialField(Material& m, const std::string& name, double value) {
+    rowNamed(materialTable(), name, "material").write(m, value);
 }
-
-// ---- probes -------------------------------------------------------------------------------
 
 const std::vector<SettingDesc>& probeFields() {
-    // engine/scene/EXTENSIONS.md, SPECULUM_reflection_probe.
-    static const std::vector<SettingDesc> fields = {
-        {"probe.kind",
-         SettingType::Enum,
-         "",
-         0,
-         1,
-         0,
-         {"local_cubemap", "cmo"},
-         "A local cubemap, or a cubemap object (CMO) for tracing."},
-        {"probe.shape", SettingType::Enum, "", 0, 1, 0, {"box", "sphere"}, "Influence and parallax shape."},
-        {"probe.extents_x",
-         SettingType::Float,
-         "m",
-         0.01,
-         100,
-         1,
-         {},
-         "Box half-extent along the node's x (sphere: the radius)."},
-        {"probe.extents_y", SettingType::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's y."},
-        {"probe.extents_z", SettingType::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's z."},
-        {"probe.blend_distance",
-         SettingType::Float,
-         "m",
-         0,
-         10,
-         0.5,
-         {},
-         "Width of the fade at the influence's border."},
-        {"probe.resolution",
-         SettingType::Enum,
-         "px",
-         0,
-         6,
-         4,
-         {"8", "16", "32", "64", "128", "256", "512"},
-         "Cubemap face size in texels."},
-        {"probe.update",
-         SettingType::Enum,
-         "",
-         0,
-         3,
-         0,
-         {"once", "on_demand", "every_frame", "time_sliced"},
-         "When the probe captures: once at start, when asked, every frame, or one face per frame."},
-        {"probe.order", SettingType::Int, "", -100, 100, 0, {}, "Higher wins where probes overlap."},
-    };
-    return fields;
+    static const std::vector<SettingDesc> descs = probeTable().descs();
+    return descs;
 }
 
-double probeField(const ReflectionProbe& p, const std::string& n) {
-    if (n == "probe.kind") return double(p.kind);
-    if (n == "probe.shape") return double(p.shape);
-    if (n == "probe.extents_x") return p.extents.x;
-    if (n == "probe.extents_y") return p.extents.y;
-    if (n == "probe.extents_z") return p.extents.z;
-    if (n == "probe.blend_distance") return p.blendDistance;
-    if (n == "probe.resolution") return std::log2(double(std::max(8u, p.resolution))) - 3.0;
-    if (n == "probe.update") return double(p.update);
-    if (n == "probe.order") return p.order;
-    throw std::logic_error("no probe field " + n);
-}
+double probeField(const ReflectionProbe& p, const std::string& name) { return rowNamed(probeTable(), name, "probe").read(p); }
 
-void setProbeField(ReflectionProbe& p, const std::string& n, double v) {
-    if (n == "probe.kind")
-        p.kind = ProbeKind(std::clamp(int(v), 0, 1));
-    else if (n == "probe.shape")
-        p.shape = ProbeShape(std::clamp(int(v), 0, 1));
-    else if (n == "probe.extents_x")
-        p.extents.x = float(v);
-    else if (n == "probe.extents_y")
-        p.extents.y = float(v);
-    else if (n == "probe.extents_z")
-        p.extents.z = float(v);
-    else if (n == "probe.blend_distance")
-        p.blendDistance = float(v);
-    else if (n == "probe.resolution")
-        p.resolution = 8u << std::clamp(int(v), 0, 6);
-    else if (n == "probe.update")
-        p.update = ProbeUpdate(std::clamp(int(v), 0, 3));
-    else if (n == "probe.order")
-        p.order = int(v);
-    else
-        throw std::logic_error("no probe field " + n);
+void setProbeField(ReflectionProbe& p, const std::string& name, double value) {
+    rowNamed(probeTable(), name, "probe").write(p, value);
 }
 
 }  // namespace speculum::editor

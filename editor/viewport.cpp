@@ -32,9 +32,8 @@ void Viewport::rebuild() {
     runner_.reset();
     chain_.reset();
     renderer_.reset();
-    render::RendererOptions options;
-    app::applyRenderSettings(doc_.settings(), options);
-    renderer_ = std::make_unique<render::Renderer>(ctx_, doc_.scene(), options);
+    renderer_ = std::make_unique<render::Renderer>(ctx_, doc_.scene(),
+                                                   fromSettings<render::RendererOptions>(doc_.settings()));
     chain_ = std::make_unique<chain::Chain>(ctx_, *renderer_, doc_.settings());
     runner_ = std::make_unique<app::FrameRunner>(ctx_, *renderer_, width_, height_);
     first_ = true;

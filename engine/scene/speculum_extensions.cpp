@@ -8,41 +8,23 @@ namespace speculum::gltf {
 
 namespace {
 
-template <typename E, size_t N>
-using EnumNames = std::array<std::pair<E, const char*>, N>;
-
-constexpr EnumNames<ReflectionMode, 4> kModes = {{{ReflectionMode::Off, "off"},
-                                                  {ReflectionMode::ScreenSpace, "screen_space"},
-                                                  {ReflectionMode::ProbesOnly, "probes_only"},
-                                                  {ReflectionMode::LocalCubemapOnly,
-                                                   "local_cubemap_only"}}};
-constexpr EnumNames<ProbeKind, 2> kKinds = {
-    {{ProbeKind::LocalCubemap, "local_cubemap"}, {ProbeKind::Cmo, "cmo"}}};
-constexpr EnumNames<ProbeShape, 2> kShapes = {
-    {{ProbeShape::Box, "box"}, {ProbeShape::Sphere, "sphere"}}};
-constexpr EnumNames<ProbeUpdate, 4> kUpdates = {{{ProbeUpdate::Once, "once"},
-                                                 {ProbeUpdate::OnDemand, "on_demand"},
-                                                 {ProbeUpdate::EveryFrame, "every_frame"},
-                                                 {ProbeUpdate::TimeSliced, "time_sliced"}}};
-
+// `names` is the enum's names in value order (speculum/scene.hpp).
 template <typename E, size_t N>
 E parseEnum(const json& ext, const char* key, const std::string& where, E def,
-            const EnumNames<E, N>& names, const Reader& r) {
+            const std::array<const char*, N>& names, const Reader& r) {
     if (!ext.contains(key)) return def;
     std::string value = r.string(ext, key, where);
     std::string allowed;
-    for (const auto& [e, name] : names) {
-        if (value == name) return e;
-        allowed += std::string(allowed.empty() ? "" : ", ") + name;
+    for (size_t i = 0; i < N; ++i) {
+        if (value == names[i]) return E(i);
+        allowed += std::string(allowed.empty() ? "" : ", ") + names[i];
     }
     r.fail(where + "." + key, "unknown value \"" + value + "\" (expected one of " + allowed + ")");
 }
 
 template <typename E, size_t N>
-const char* enumName(E e, const EnumNames<E, N>& names) {
-    for (const auto& [v, name] : names)
-        if (v == e) return name;
-    return names[0].second;
+const char* enumName(E e, const std::array<const char*, N>& names) {
+    return size_t(e) < N ? names[size_t(e)] : names[0];
 }
 
 float ranged(const json& ext, const char* key, const std::string& where, float def, float lo,
@@ -74,7 +56,7 @@ MaterialReflections parseReflections(const json& ext, const std::string& where,
                 {"mode", "roughnessScale", "roughnessOverride", "maxScreenSpaceRoughness",
                  "traceCmos", "mirrorForSelfReflections"},
                 r);
-    m.mode = parseEnum(ext, "mode", where, m.mode, kModes, r);
+    m.mode = parseEnum(ext, "mode", where, m.mode, kReflectionModeNames, r);
     m.roughnessScale = ranged(ext, "roughnessScale", where, m.roughnessScale, 0.0f, 16.0f, r);
     if (ext.contains("roughnessOverride"))
         m.roughnessOverride = ranged(ext, "roughnessOverride", where, 0.0f, 0.0f, 1.0f, r);
@@ -90,8 +72,8 @@ ReflectionProbe parseProbe(const json& ext, const std::string& where, const Read
     ReflectionProbe p;
     warnUnknown(ext, where,
                 {"kind", "shape", "extents", "blendDistance", "resolution", "update", "order"}, r);
-    p.kind = parseEnum(ext, "kind", where, p.kind, kKinds, r);
-    p.shape = parseEnum(ext, "shape", where, p.shape, kShapes, r);
+    p.kind = parseEnum(ext, "kind", where, p.kind, kProbeKindNames, r);
+    p.shape = parseEnum(ext, "shape", where, p.shape, kProbeShapeNames, r);
     auto e = r.floats(ext, "extents", where, 3, {p.extents.x, p.extents.y, p.extents.z});
     for (float v : e)
         if (!(v > 0.0f)) r.fail(where + ".extents", "every extent must be positive");
@@ -102,7 +84,7 @@ ReflectionProbe parseProbe(const json& ext, const std::string& where, const Read
     if (res < 8 || res > 4096 || (res & (res - 1)) != 0)
         r.fail(where + ".resolution", std::to_string(res) + " is not a power of two in [8, 4096]");
     p.resolution = uint32_t(res);
-    p.update = parseEnum(ext, "update", where, p.update, kUpdates, r);
+    p.update = parseEnum(ext, "update", where, p.update, kProbeUpdateNames, r);
     int64_t order = r.integer(ext, "order", where, p.order);
     if (order < -1000000 || order > 1000000)
         r.fail(where + ".order", std::to_string(order) + " is out of range [-1e6, 1e6]");
@@ -111,7 +93,7 @@ ReflectionProbe parseProbe(const json& ext, const std::string& where, const Read
 }
 
 void writeReflections(json& ext, const MaterialReflections& m) {
-    ext["mode"] = enumName(m.mode, kModes);
+    ext["mode"] = enumName(m.mode, kReflectionModeNames);
     ext["roughnessScale"] = m.roughnessScale;
     if (m.roughnessOverride) ext["roughnessOverride"] = *m.roughnessOverride;
     else ext.erase("roughnessOverride");
@@ -121,12 +103,12 @@ void writeReflections(json& ext, const MaterialReflections& m) {
 }
 
 void writeProbe(json& ext, const ReflectionProbe& p) {
-    ext["kind"] = enumName(p.kind, kKinds);
-    ext["shape"] = enumName(p.shape, kShapes);
+    ext["kind"] = enumName(p.kind, kProbeKindNames);
+    ext["shape"] = enumName(p.shape, kProbeShapeNames);
     ext["extents"] = {p.extents.x, p.extents.y, p.extents.z};
     ext["blendDistance"] = p.blendDistance;
     ext["resolution"] = p.resolution;
-    ext["update"] = enumName(p.update, kUpdates);
+    ext["update"] = enumName(p.update, kProbeUpdateNames);
     ext["order"] = p.order;
 }
 

@@ -13,7 +13,7 @@ bool probesInUse(const Settings& settings) {
 }
 
 Chain::Chain(const gpu::Context& ctx, render::Renderer& renderer, const Settings& settings)
-    : probes_(ctx, renderer, probes::ProbeSettings::from(settings)), reflections_(ctx, renderer) {}
+    : probes_(ctx, renderer, fromSettings<probes::ProbeSettings>(settings)), reflections_(ctx, renderer) {}
 
 bool Chain::update(const Settings& settings, const probes::Probes::Progress& progress) {
     if (!probesInUse(settings)) return false;
@@ -22,7 +22,7 @@ bool Chain::update(const Settings& settings, const probes::Probes::Progress& pro
 }
 
 app::LitHook Chain::litHook(const Settings& settings, const render::FrameInputs& frame) {
-    reflections::ReflectionSettings s = reflections::ReflectionSettings::from(settings);
+    reflections::ReflectionSettings s = fromSettings<reflections::ReflectionSettings>(settings);
     // A host's settings may lack the probes' table (a test of the reflections module alone).
     probes::DebugView probeView = settings.find("probes.debug_view") ? probes::DebugView(settings.getInt("probes.debug_view"))
                                                                      : probes::DebugView::None;

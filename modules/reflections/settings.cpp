@@ -1,113 +1,117 @@
-// reflections.* settings: the one table (name, unit, range, default, help) behind JSON, --set,
-// the editor panel, the README's table and the tests.
+// reflections.* settings: the one table (name, unit, range, default, help, field) behind JSON,
+// --set, the editor panel, ReflectionSettings, the README's table and the tests.
 #include "speculum/reflections/reflections.hpp"
 
 namespace speculum::reflections {
 
-std::vector<SettingDesc> settingsTable() {
+const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
     using T = SettingType;
-    return {
-        {"reflections.enabled", T::Bool, "", 0, 1, 1, {},
-         "Run the reflections module; off leaves the renderer's prefiltered-environment specular."},
-        {"reflections.screen_space", T::Bool, "", 0, 1, 1, {},
+    using R = ReflectionSettings;
+    static const SettingFields<R> table({
+        bind<&R::enabled>({"reflections.enabled", T::Bool, "", 0, 1, 1, {},
+         "Run the reflections module; off leaves the renderer's prefiltered-environment specular."}),
+        bind<&R::screenSpace>({"reflections.screen_space", T::Bool, "", 0, 1, 1, {},
          "Trace screen space first in the fallback chain; off: probes and the sky only (the bench's "
-         "`probes` method)."},
-        {"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
+         "`probes` method)."}),
+        bind<&R::trace>({"reflections.trace", T::Enum, "", 0, 1, 0, {"hiz", "linear"},
          "Screen-space tracer: hierarchical min/max Hi-Z traversal, or the linear march with binary "
-         "refinement kept as the baseline."},
-        {"reflections.max_iterations", T::Int, "", 1, 1024, 96, {},
-         "Hi-Z: most traversal iterations per ray (a ray out of iterations is a miss)."},
-        {"reflections.linear_pre_steps", T::Int, "", 0, 16, 2, {},
-         "Hi-Z: steps at level 0 before the hierarchy, to leave the reflecting surface cheaply."},
-        {"reflections.hiz_start_level", T::Int, "", 0, 12, 1, {},
-         "Hi-Z: level the hierarchical traversal starts at after the linear steps."},
-        {"reflections.hiz_stop_level", T::Int, "", 0, 6, 0, {},
-         "Hi-Z: level at which an overlap counts as a hit (0 = per pixel; higher is coarser and faster)."},
-        {"reflections.linear_stride", T::Float, "px", 1, 64, 2, {},
-         "Linear march: step length along the ray's major screen axis."},
-        {"reflections.linear_max_steps", T::Int, "", 1, 4096, 512, {},
-         "Linear march: most steps per ray before the binary refinement."},
-        {"reflections.refine_steps", T::Int, "", 0, 16, 5, {},
-         "Linear march: binary-search steps between the last miss and the first hit."},
-        {"reflections.thickness", T::Float, "x depth", 0.001, 4, 0.08, {},
+         "refinement kept as the baseline."}),
+        bind<&R::maxIterations>({"reflections.max_iterations", T::Int, "", 1, 1024, 96, {},
+         "Hi-Z: most traversal iterations per ray (a ray out of iterations is a miss)."}),
+        bind<&R::linearPreSteps>({"reflections.linear_pre_steps", T::Int, "", 0, 16, 2, {},
+         "Hi-Z: steps at level 0 before the hierarchy, to leave the reflecting surface cheaply."}),
+        bind<&R::hizStartLevel>({"reflections.hiz_start_level", T::Int, "", 0, 12, 1, {},
+         "Hi-Z: level the hierarchical traversal starts at after the linear steps."}),
+        bind<&R::hizStopLevel>({"reflections.hiz_stop_level", T::Int, "", 0, 6, 0, {},
+         "Hi-Z: level at which an overlap counts as a hit (0 = per pixel; higher is coarser and faster)."}),
+        bind<&R::linearStride>({"reflections.linear_stride", T::Float, "px", 1, 64, 2, {},
+         "Linear march: step length along the ray's major screen axis."}),
+        bind<&R::linearMaxSteps>({"reflections.linear_max_steps", T::Int, "", 1, 4096, 512, {},
+         "Linear march: most steps per ray before the binary refinement."}),
+        bind<&R::refineSteps>({"reflections.refine_steps", T::Int, "", 0, 16, 5, {},
+         "Linear march: binary-search steps between the last miss and the first hit."}),
+        bind<&R::thickness>({"reflections.thickness", T::Float, "x depth", 0.001, 4, 0.08, {},
          "Assumed thickness of every surface as a fraction of its distance to the eye: rays "
-         "further behind a surface than this pass behind it."},
-        {"reflections.cone_samples", T::Int, "", 1, 32, 8, {},
-         "Cone tracing: most incircle samples per ray (stops earlier at full visibility)."},
-        {"reflections.coverage", T::Enum, "", 0, 1, 0, {"hit", "visibility"},
+         "further behind a surface than this pass behind it."}),
+        bind<&R::coneSamples>({"reflections.cone_samples", T::Int, "", 1, 32, 8, {},
+         "Cone tracing: most incircle samples per ray (stops earlier at full visibility)."}),
+        bind<&R::coverage>({"reflections.coverage", T::Enum, "", 0, 1, 0, {"hit", "visibility"},
          "Screen-space share of a pixel: `hit` (a hit covers fully, times the fades) or "
-         "`visibility` (the cone's accumulated pre-integrated visibility, as in the book)."},
-        {"reflections.max_roughness", T::Float, "", 0, 1, 0.6, {},
+         "`visibility` (the cone's accumulated pre-integrated visibility, as in the book)."}),
+        bind<&R::maxRoughness>({"reflections.max_roughness", T::Float, "", 0, 1, 0.6, {},
          "Screen space is used up to this perceptual roughness (materials can lower it); the "
-         "environment takes over above it, faded over the last 0.1."},
-        {"reflections.edge_fade", T::Float, "x screen", 0, 0.5, 0.05, {},
-         "Hits closer to a screen edge than this share of the screen fade to the fallback."},
-        {"reflections.camera_fade_start", T::Float, "cos", -1, 1, -0.2, {},
-         "Rays toward the camera: fading starts where dot(ray, view direction) drops below this."},
-        {"reflections.camera_fade_end", T::Float, "cos", -1, 1, -0.6, {},
-         "Rays toward the camera: fully faded below this dot(ray, view direction)."},
-        {"reflections.distance_fade_start", T::Float, "m", 0, 10000, 40, {},
-         "Hits further than this from the reflecting point start fading."},
-        {"reflections.distance_fade_end", T::Float, "m", 0, 10000, 60, {},
-         "Hits further than this from the reflecting point are fully faded."},
-        {"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
+         "environment takes over above it, faded over the last 0.1."}),
+        bind<&R::edgeFade>({"reflections.edge_fade", T::Float, "x screen", 0, 0.5, 0.05, {},
+         "Hits closer to a screen edge than this share of the screen fade to the fallback."}),
+        bind<&R::cameraFadeStart>({"reflections.camera_fade_start", T::Float, "cos", -1, 1, -0.2, {},
+         "Rays toward the camera: fading starts where dot(ray, view direction) drops below this."}),
+        bind<&R::cameraFadeEnd>({"reflections.camera_fade_end", T::Float, "cos", -1, 1, -0.6, {},
+         "Rays toward the camera: fully faded below this dot(ray, view direction)."}),
+        bind<&R::distanceFadeStart>({"reflections.distance_fade_start", T::Float, "m", 0, 10000, 40, {},
+         "Hits further than this from the reflecting point start fading."}),
+        bind<&R::distanceFadeEnd>({"reflections.distance_fade_end", T::Float, "m", 0, 10000, 60, {},
+         "Hits further than this from the reflecting point are fully faded."}),
+        bind<&R::multiBounce>({"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
          "Build the colour pyramid from the previous frame's final image reprojected, so "
-         "reflections of reflections accumulate over frames."},
-        {"reflections.probes", T::Bool, "", 0, 1, 1, {},
+         "reflections of reflections accumulate over frames."}),
+        bind<&R::probes>({"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
-         "chain; off: what screen space leaves goes to the sky."},
-        {"reflections.cmos", T::Bool, "", 0, 1, 1, {},
+         "chain; off: what screen space leaves goes to the sky."}),
+        bind<&R::cmos>({"reflections.cmos", T::Bool, "", 0, 1, 1, {},
          "Cubemap-tracing objects (CMOs, SPECULUM_reflection_probe kind cmo) between screen space "
          "and the local probes in the fallback chain: what screen space leaves is traced through "
-         "them in order; off: it goes to the local probes."},
-        {"reflections.cmo_trace", T::Enum, "", 0, 1, 0, {"hierarchical", "linear"},
+         "them in order; off: it goes to the local probes."}),
+        bind<&R::cmoTrace>({"reflections.cmo_trace", T::Enum, "", 0, 1, 0, {"hierarchical", "linear"},
          "CMO tracer: the min/max distance hierarchy per cube face (skips what the ray cannot "
-         "meet), or constant world steps with bisection kept as the baseline."},
-        {"reflections.cmo_max_iterations", T::Int, "", 1, 4096, 256, {},
+         "meet), or constant world steps with bisection kept as the baseline."}),
+        bind<&R::cmoMaxIterations>({"reflections.cmo_max_iterations", T::Int, "", 1, 4096, 256, {},
          "CMO tracing: most cells (hierarchical) or steps (linear) per pixel over every CMO and "
-         "bounce; a ray out of iterations is unresolved and goes on down the chain."},
-        {"reflections.cmo_linear_step", T::Float, "m", 0.001, 10, 0.05, {},
-         "CMO linear tracer: the constant step along the ray."},
-        {"reflections.cmo_thickness", T::Float, "m", 0, 10, 0.05, {},
+         "bounce; a ray out of iterations is unresolved and goes on down the chain."}),
+        bind<&R::cmoLinearStep>({"reflections.cmo_linear_step", T::Float, "m", 0.001, 10, 0.05, {},
+         "CMO linear tracer: the constant step along the ray."}),
+        bind<&R::cmoThickness>({"reflections.cmo_thickness", T::Float, "m", 0, 10, 0.05, {},
          "CMO tracing: how far behind a captured surface a crossing found at a texel's edge may "
          "lie and still be that surface (plus four texel footprints); deeper, the ray passed "
-         "behind it and the next CMO is asked."},
-        {"reflections.cmo_max_distance", T::Float, "m", 0.1, 10000, 60, {},
-         "CMO tracing: the length of a traced ray; beyond it the ray is a miss (local probes, sky)."},
-        {"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
+         "behind it and the next CMO is asked."}),
+        bind<&R::cmoMaxDistance>({"reflections.cmo_max_distance", T::Float, "m", 0.1, 10000, 60, {},
+         "CMO tracing: the length of a traced ray; beyond it the ray is a miss (local probes, sky)."}),
+        bind<&R::cmoBounces>({"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
          "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
-         "mirrorForSelfReflections) reflects again, up to this many times."},
-        {"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
+         "mirrorForSelfReflections) reflects again, up to this many times."}),
+        bind<&R::cmoPassBehind>({"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
          "A ray every CMO leaves unresolved (it passed behind a surface the CMOs cannot see past): "
          "down the chain to the local probes, or traced once more through the first CMO as if it "
          "passed behind what hid it (right behind thin occluders, wrong where it meets one's "
-         "unseen back)."},
-        {"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.5, {},
+         "unseen back)."}),
+        bind<&R::cmoMaxRoughness>({"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.5, {},
          "CMOs trace reflections up to this perceptual roughness (glossy rays read the colour "
-         "mips by the cone's footprint at the hit); rougher goes to the local probes."},
-        {"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
+         "mips by the cone's footprint at the hit); rougher goes to the local probes."}),
+        bind<&R::resolution>({"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
          "Trace and resolve at full size, or at half size in each axis followed by a joint bilateral "
-         "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."},
-        {"reflections.glossy", T::Enum, "", 0, 1, 0, {"cone", "stochastic"},
+         "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."}),
+        bind<&R::glossy>({"reflections.glossy", T::Enum, "", 0, 1, 0, {"cone", "stochastic"},
          "Glossy reflections by cone tracing the mirror ray's hit in the colour pyramid, or by one "
-         "GGX visible-normal sample per pixel with neighbour ray reuse (pair it with temporal)."},
-        {"reflections.temporal", T::Bool, "", 0, 1, 0, {},
+         "GGX visible-normal sample per pixel with neighbour ray reuse (pair it with temporal)."}),
+        bind<&R::temporal>({"reflections.temporal", T::Bool, "", 0, 1, 0, {},
          "Accumulate the reflection over frames: history reprojected by the surface (rough) and by "
-         "the reflected hit (sharp), rejected on disocclusion, clipped to the neighbourhood."},
-        {"reflections.temporal_alpha", T::Float, "", 0.02, 1, 0.1, {},
-         "Temporal: weight of the current frame (1 = no accumulation; 0.1 averages about 10 frames)."},
-        {"reflections.temporal_clip", T::Float, "sigma", 0.25, 8, 1.25, {},
+         "the reflected hit (sharp), rejected on disocclusion, clipped to the neighbourhood."}),
+        bind<&R::temporalAlpha>({"reflections.temporal_alpha", T::Float, "", 0.02, 1, 0.1, {},
+         "Temporal: weight of the current frame (1 = no accumulation; 0.1 averages about 10 frames)."}),
+        bind<&R::temporalClip>({"reflections.temporal_clip", T::Float, "sigma", 0.25, 8, 1.25, {},
          "Temporal: the history is clipped to the current 3x3 mean +- this many standard "
-         "deviations (lower: less ghosting, more flicker)."},
-        {"reflections.debug_view", T::Enum, "", 0, 7, 0,
+         "deviations (lower: less ghosting, more flicker)."}),
+        bind<&R::debugView>({"reflections.debug_view", T::Enum, "", 0, 7, 0,
          {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection", "cmo"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
          "method weights (CMOs yellow), a Hi-Z level, the reflection alone, or CMO tracing (hue: "
-         "which CMO hit, brightness: iterations; red: unresolved)."},
-        {"reflections.debug_hiz_mip", T::Int, "", 0, 15, 3, {},
-         "Hi-Z level shown by debug_view=hiz and the hiz AOV."},
-    };
+         "which CMO hit, brightness: iterations; red: unresolved)."}),
+        bind<&R::debugHizMip>({"reflections.debug_hiz_mip", T::Int, "", 0, 15, 3, {},
+         "Hi-Z level shown by debug_view=hiz and the hiz AOV."}),
+    });
+    return table;
 }
+
+std::vector<SettingDesc> settingsTable() { return ReflectionSettings::fields().descs(); }
 
 app::ModuleInfo moduleInfo() {
     return {"reflections",
@@ -125,48 +129,6 @@ app::ModuleInfo moduleInfo() {
             "reflections.enabled"};
 }
 
-ReflectionSettings::ReflectionSettings() : ReflectionSettings(from(Settings(settingsTable()))) {}
-
-ReflectionSettings ReflectionSettings::from(const Settings& s) {
-    ReflectionSettings r{Blank{}};
-    r.enabled = s.getBool("reflections.enabled");
-    r.screenSpace = s.getBool("reflections.screen_space");
-    r.trace = TraceMode(s.getInt("reflections.trace"));
-    r.maxIterations = s.getInt("reflections.max_iterations");
-    r.linearPreSteps = s.getInt("reflections.linear_pre_steps");
-    r.hizStartLevel = s.getInt("reflections.hiz_start_level");
-    r.hizStopLevel = s.getInt("reflections.hiz_stop_level");
-    r.linearStride = s.getFloat("reflections.linear_stride");
-    r.linearMaxSteps = s.getInt("reflections.linear_max_steps");
-    r.refineSteps = s.getInt("reflections.refine_steps");
-    r.thickness = s.getFloat("reflections.thickness");
-    r.coneSamples = s.getInt("reflections.cone_samples");
-    r.coverage = CoverageMode(s.getInt("reflections.coverage"));
-    r.maxRoughness = s.getFloat("reflections.max_roughness");
-    r.edgeFade = s.getFloat("reflections.edge_fade");
-    r.cameraFadeStart = s.getFloat("reflections.camera_fade_start");
-    r.cameraFadeEnd = s.getFloat("reflections.camera_fade_end");
-    r.distanceFadeStart = s.getFloat("reflections.distance_fade_start");
-    r.distanceFadeEnd = s.getFloat("reflections.distance_fade_end");
-    r.multiBounce = s.getBool("reflections.multi_bounce");
-    r.probes = s.getBool("reflections.probes");
-    r.cmos = s.getBool("reflections.cmos");
-    r.cmoTrace = CmoTraceMode(s.getInt("reflections.cmo_trace"));
-    r.cmoMaxIterations = s.getInt("reflections.cmo_max_iterations");
-    r.cmoLinearStep = s.getFloat("reflections.cmo_linear_step");
-    r.cmoThickness = s.getFloat("reflections.cmo_thickness");
-    r.cmoMaxDistance = s.getFloat("reflections.cmo_max_distance");
-    r.cmoBounces = s.getInt("reflections.cmo_bounces");
-    r.cmoMaxRoughness = s.getFloat("reflections.cmo_max_roughness");
-    r.cmoPassBehind = s.getInt("reflections.cmo_unresolved") == 1;
-    r.resolution = Resolution(s.getInt("reflections.resolution"));
-    r.glossy = GlossyMode(s.getInt("reflections.glossy"));
-    r.temporal = s.getBool("reflections.temporal");
-    r.temporalAlpha = s.getFloat("reflections.temporal_alpha");
-    r.temporalClip = s.getFloat("reflections.temporal_clip");
-    r.debugView = DebugView(s.getInt("reflections.debug_view"));
-    r.debugHizMip = s.getInt("reflections.debug_hiz_mip");
-    return r;
-}
+ReflectionSettings::ReflectionSettings() { fields().writeDefaults(*this); }
 
 }  // namespace speculum::reflections

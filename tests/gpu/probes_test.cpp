@@ -171,16 +171,12 @@ struct Composed {
     render::FrameInputs frame;
 
     Composed(const gpu::Context& ctx, const Scene& scene, uint32_t w, uint32_t h)
-        : renderer(ctx, scene, rendererOptions(settings)), chain(ctx, renderer, settings), probes(chain.probes()),
+        : renderer(ctx, scene, fromSettings<render::RendererOptions>(settings)), chain(ctx, renderer, settings),
+          probes(chain.probes()),
           runner(ctx, renderer, w, h) {
         render::CameraState cam = render::makeCamera(*scene.findCamera("main"), w, h);
         frame = {cam, cam};
         probes.update();
-    }
-    static render::RendererOptions rendererOptions(const Settings& s) {
-        render::RendererOptions ro;
-        app::applyRenderSettings(s, ro);
-        return ro;
     }
     app::FrameResult render(const std::vector<std::string>& aovs) {
         return runner.render(frame, aovs, chain.litHook(settings, frame));

@@ -116,8 +116,7 @@ int run(const Options& o) {
     Settings settings(app::engineSettingsTable());
     if (o.settingsGiven) settings.load(o.settingsFile);
     for (const std::string& kv : o.sets) settings.assign(kv);
-    render::RendererOptions ro;
-    app::applyRenderSettings(settings, ro);
+    render::RendererOptions ro = fromSettings<render::RendererOptions>(settings);
 
     auto setupStart = std::chrono::steady_clock::now();
     Scene scene = loadScene(o.view.scenePath);

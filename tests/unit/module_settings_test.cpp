@@ -1,62 +1,96 @@
-// Every setting is described once: the settings structs take their defaults from the table. This
-// fails if a struct default and the table differ (a default written twice drifts: the struct once
-// said max_iterations 64 and hiz_start_level 2 while the table said 96 and 1).
+// Every setting is described once: a table row names the setting and binds the struct field it
+// fills, and the struct takes its defaults from the rows. These fail where a row fills the wrong
+// field or none, a field is bound by no row, a default differs from the table (a default written
+// twice drifts: the struct once said max_iterations 64 and hiz_start_level 2 while the table said
+// 96 and 1), or a README's table differs from the code's.
+#include "speculum/app/engine_settings.hpp"
 #include "speculum/probes/probes.hpp"
 #include "speculum/reflections/reflections.hpp"
 
+#include <cmath>
+#include <cstring>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
 using namespace speculum;
 
+namespace {
+
+// A value of the setting in its range that is not its default.
+double otherValue(const SettingDesc& d) {
+    if (d.type == SettingType::Bool || d.type == SettingType::Enum) return d.defaultValue == 0.0 ? 1.0 : 0.0;
+    return d.defaultValue != d.max ? d.max : d.min;
+}
+
+bool near(double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); }
+
+// Each row's field holds the table's default, and a Settings with only that row's value changed
+// fills a struct that differs from the defaults in that field and no other.
+template <class S>
+void expectEachRowFillsItsOwnField() {
+    const S defaults;
+    const std::vector<SettingField<S>>& rows = S::fields().rows();
+    ASSERT_FALSE(rows.empty());
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const SettingDesc& d = rows[i].desc;
+        EXPECT_TRUE(near(rows[i].read(defaults), d.defaultValue)) << d.name << ": the struct's default is not the table's";
+        Settings settings(S::fields().descs());
+        double changed = otherValue(d);
+        settings.set(d.name, changed);
+        S filled = fromSettings<S>(settings);
+        EXPECT_TRUE(near(rows[i].read(filled), changed)) << d.name << " does not reach its field";
+        for (size_t j = 0; j < rows.size(); ++j) {
+            if (j != i)
+                EXPECT_EQ(rows[j].read(filled), rows[j].read(defaults))
+                    << d.name << " also wrote the field of " << rows[j].desc.name;
+        }
+    }
+}
+
+// A field no row binds keeps whatever bytes lay under it: built over zeros and over ones, the two
+// structs then differ (the structs have no other constructor that could write it).
+template <class S>
+void expectTheTableWritesEveryField() {
+    alignas(S) unsigned char zeros[sizeof(S)];
+    alignas(S) unsigned char ones[sizeof(S)];
+    std::memset(zeros, 0x00, sizeof(S));
+    std::memset(ones, 0xff, sizeof(S));
+    const S* a = new (zeros) S();
+    const S* b = new (ones) S();
+    EXPECT_TRUE(*a == *b) << "a field is bound by no row of the table";
+    static_assert(std::is_trivially_destructible_v<S>);
+}
+
+void expectReadmeCarries(const std::string& readme, const std::vector<SettingDesc>& descs) {
+    std::ifstream in(std::string(SPECULUM_SOURCE_DIR) + "/" + readme);
+    ASSERT_TRUE(in) << readme << " not found";
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string table = Settings(descs).markdownTable();
+    EXPECT_NE(text.str().find(table), std::string::npos)
+        << readme << ": the settings table differs from the code's; paste this:\n" << table;
+}
+
+}  // namespace
+
+TEST(ModuleSettings, ReflectionRowsFillTheirOwnFields) {
+    expectEachRowFillsItsOwnField<reflections::ReflectionSettings>();
+    expectTheTableWritesEveryField<reflections::ReflectionSettings>();
+    EXPECT_EQ(reflections::settingsTable().size(), reflections::ReflectionSettings::fields().rows().size());
+}
+
 TEST(ModuleSettings, ReflectionDefaultsComeFromTheTable) {
-    Settings table(reflections::settingsTable());
     reflections::ReflectionSettings s;
-    EXPECT_EQ(s.enabled, table.getBool("reflections.enabled"));
-    EXPECT_EQ(s.screenSpace, table.getBool("reflections.screen_space"));
-    EXPECT_EQ(int(s.trace), table.getInt("reflections.trace"));
-    EXPECT_EQ(s.maxIterations, table.getInt("reflections.max_iterations"));
-    EXPECT_EQ(s.linearPreSteps, table.getInt("reflections.linear_pre_steps"));
-    EXPECT_EQ(s.hizStartLevel, table.getInt("reflections.hiz_start_level"));
-    EXPECT_EQ(s.hizStopLevel, table.getInt("reflections.hiz_stop_level"));
-    EXPECT_FLOAT_EQ(s.linearStride, table.getFloat("reflections.linear_stride"));
-    EXPECT_EQ(s.linearMaxSteps, table.getInt("reflections.linear_max_steps"));
-    EXPECT_EQ(s.refineSteps, table.getInt("reflections.refine_steps"));
-    EXPECT_FLOAT_EQ(s.thickness, table.getFloat("reflections.thickness"));
-    EXPECT_EQ(s.coneSamples, table.getInt("reflections.cone_samples"));
-    EXPECT_EQ(int(s.coverage), table.getInt("reflections.coverage"));
-    EXPECT_FLOAT_EQ(s.maxRoughness, table.getFloat("reflections.max_roughness"));
-    EXPECT_FLOAT_EQ(s.edgeFade, table.getFloat("reflections.edge_fade"));
-    EXPECT_FLOAT_EQ(s.cameraFadeStart, table.getFloat("reflections.camera_fade_start"));
-    EXPECT_FLOAT_EQ(s.cameraFadeEnd, table.getFloat("reflections.camera_fade_end"));
-    EXPECT_FLOAT_EQ(s.distanceFadeStart, table.getFloat("reflections.distance_fade_start"));
-    EXPECT_FLOAT_EQ(s.distanceFadeEnd, table.getFloat("reflections.distance_fade_end"));
-    EXPECT_EQ(s.multiBounce, table.getBool("reflections.multi_bounce"));
-    EXPECT_EQ(s.probes, table.getBool("reflections.probes"));
-    EXPECT_EQ(s.cmos, table.getBool("reflections.cmos"));
-    EXPECT_EQ(int(s.cmoTrace), table.getInt("reflections.cmo_trace"));
-    EXPECT_EQ(s.cmoMaxIterations, table.getInt("reflections.cmo_max_iterations"));
-    EXPECT_FLOAT_EQ(s.cmoLinearStep, table.getFloat("reflections.cmo_linear_step"));
-    EXPECT_FLOAT_EQ(s.cmoThickness, table.getFloat("reflections.cmo_thickness"));
-    EXPECT_FLOAT_EQ(s.cmoMaxDistance, table.getFloat("reflections.cmo_max_distance"));
-    EXPECT_EQ(s.cmoBounces, table.getInt("reflections.cmo_bounces"));
-    EXPECT_FLOAT_EQ(s.cmoMaxRoughness, table.getFloat("reflections.cmo_max_roughness"));
-    EXPECT_EQ(s.cmoPassBehind, table.getInt("reflections.cmo_unresolved") == 1);
-    EXPECT_EQ(int(s.resolution), table.getInt("reflections.resolution"));
-    EXPECT_EQ(int(s.glossy), table.getInt("reflections.glossy"));
-    EXPECT_EQ(s.temporal, table.getBool("reflections.temporal"));
-    EXPECT_FLOAT_EQ(s.temporalAlpha, table.getFloat("reflections.temporal_alpha"));
-    EXPECT_FLOAT_EQ(s.temporalClip, table.getFloat("reflections.temporal_clip"));
-    EXPECT_EQ(int(s.debugView), table.getInt("reflections.debug_view"));
-    EXPECT_EQ(s.debugHizMip, table.getInt("reflections.debug_hiz_mip"));
     // The known values of today's table, so that a table edit is a conscious one.
     EXPECT_EQ(s.maxIterations, 96);
     EXPECT_EQ(s.hizStartLevel, 1);
+    EXPECT_FALSE(s.cmoPassBehind);
 }
 
-TEST(ModuleSettings, FromReadsEveryOverride) {
+TEST(ModuleSettings, FromSettingsReadsEveryOverride) {
     Settings table(reflections::settingsTable());
     table.assign("reflections.max_iterations=7");
     table.assign("reflections.probes=false");
@@ -65,7 +99,8 @@ TEST(ModuleSettings, FromReadsEveryOverride) {
     table.assign("reflections.glossy=stochastic");
     table.assign("reflections.temporal=true");
     table.assign("reflections.temporal_alpha=0.25");
-    auto s = reflections::ReflectionSettings::from(table);
+    table.assign("reflections.cmo_unresolved=pass_behind");
+    auto s = fromSettings<reflections::ReflectionSettings>(table);
     EXPECT_EQ(s.resolution, reflections::Resolution::Half);
     EXPECT_EQ(s.glossy, reflections::GlossyMode::Stochastic);
     EXPECT_TRUE(s.temporal);
@@ -73,27 +108,46 @@ TEST(ModuleSettings, FromReadsEveryOverride) {
     EXPECT_EQ(s.maxIterations, 7);
     EXPECT_FALSE(s.probes);
     EXPECT_EQ(s.trace, reflections::TraceMode::Linear);
+    EXPECT_TRUE(s.cmoPassBehind);
 }
 
-TEST(ModuleSettings, ProbeDefaultsComeFromTheTable) {
-    Settings table(probes::settingsTable());
-    probes::ProbeSettings s;
-    EXPECT_EQ(s.bounces, table.getInt("probes.bounces"));
-    EXPECT_EQ(s.prefilterSamples, table.getInt("probes.prefilter_samples"));
-    EXPECT_EQ(int(s.debugView), table.getInt("probes.debug_view"));
-    EXPECT_EQ(s.bounces, 2);
+TEST(ModuleSettings, ProbeRowsFillTheirOwnFields) {
+    expectEachRowFillsItsOwnField<probes::ProbeSettings>();
+    expectTheTableWritesEveryField<probes::ProbeSettings>();
+    EXPECT_EQ(probes::ProbeSettings().bounces, 2);
+}
+
+TEST(ModuleSettings, RenderRowsFillTheirOwnFields) {
+    expectEachRowFillsItsOwnField<render::RendererOptions>();
+    expectEachRowFillsItsOwnField<render::EnvironmentOptions>();
+    std::vector<std::string> names;
+    for (const SettingDesc& d : app::engineSettingsTable()) names.push_back(d.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"render.exposure", "render.shadow_map_size", "render.environment_size",
+                                               "render.environment_samples"}));
+    // Designated initializers keep the table's defaults for the fields they leave out.
+    render::EnvironmentOptions e{.cubeSize = 8};
+    EXPECT_EQ(e.prefilterSamples, 64u);
+    EXPECT_EQ(render::RendererOptions().shadowMapSize, 2048u);
+}
+
+TEST(ModuleSettings, ARowOfAnotherTypeIsALogicError) {
+    struct Mixed {
+        int count = 0;
+    };
+    EXPECT_THROW(bind<&Mixed::count>({"x.count", SettingType::Float, "", 0, 1, 0, {}, ""}), std::logic_error);
+    EXPECT_NO_THROW(bind<&Mixed::count>({"x.count", SettingType::Int, "", 0, 1, 0, {}, ""}));
 }
 
 TEST(ModuleSettings, ProbesReadmeCarriesTheGeneratedTable) {
-    std::ifstream in(std::string(SPECULUM_SOURCE_DIR) + "/modules/probes/README.md");
-    ASSERT_TRUE(in) << "modules/probes/README.md not found";
-    std::stringstream readme;
-    readme << in.rdbuf();
-    std::string table = Settings(probes::settingsTable()).markdownTable();
-    EXPECT_NE(readme.str().find(table), std::string::npos)
-        << "modules/probes/README.md: the settings table differs from settingsTable(); paste this:\n"
-        << table;
+    expectReadmeCarries("modules/probes/README.md", probes::settingsTable());
 }
+
+// A changed default or range that is not in the README fails here.
+TEST(ReflectionsSettings, ReadmeCarriesTheGeneratedTable) {
+    expectReadmeCarries("modules/reflections/README.md", reflections::settingsTable());
+}
+
+TEST(EngineSettings, ReadmeCarriesTheGeneratedTable) { expectReadmeCarries("README.md", app::engineSettingsTable()); }
 
 TEST(ModuleSettings, ModulesRegisterTheirTablesAovsAndDebugViews) {
     app::ModuleInfo r = reflections::moduleInfo();

@@ -2,13 +2,10 @@
 // sizes), the CPU Hi-Z, cone angles and incircles.
 #include "speculum/reflections/math.hpp"
 #include "speculum/reflections/reflections.hpp"
-#include "speculum/settings.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <random>
 
 using namespace speculum::reflections;
@@ -87,18 +84,4 @@ TEST(ReflectionsMath, IncircleOfKnownTriangles) {
     EXPECT_NEAR(incircleRadius(2.0f, 1.0f), 1.0f / s, 1e-5f);
     EXPECT_NEAR(isoscelesOpposite(10.0f, std::atan(0.25f)), 5.0f, 1e-5f);
     EXPECT_EQ(incircleRadius(0.0f, 1.0f), 0.0f);
-}
-
-// The settings table is described once: the module README carries the table's own markdown,
-// so a changed default or range that is not in the README fails here.
-TEST(ReflectionsSettings, ReadmeCarriesTheGeneratedTable) {
-    std::ifstream in(std::string(SPECULUM_SOURCE_DIR) + "/modules/reflections/README.md");
-    ASSERT_TRUE(in) << "modules/reflections/README.md not found";
-    std::stringstream readme;
-    readme << in.rdbuf();
-    std::string table = speculum::Settings(settingsTable()).markdownTable();
-    EXPECT_NE(readme.str().find(table), std::string::npos)
-        << "modules/reflections/README.md: the settings table differs from settingsTable(); "
-           "paste this:\n"
-        << table;
 }

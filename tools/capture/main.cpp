@@ -103,9 +103,7 @@ int run(const Options& o) {
                             ctx.deviceName() + ")");
     app::checkSceneFitsDevice(ctx, scene);
 
-    render::RendererOptions ro;
-    app::applyRenderSettings(settings, ro);
-    render::Renderer renderer(ctx, scene, ro);
+    render::Renderer renderer(ctx, scene, fromSettings<render::RendererOptions>(settings));
     chain::Chain modules(ctx, renderer, settings);
     const probes::Probes& probeModule = modules.probes();
     app::FrameRunner runner(ctx, renderer, w, h);

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -54,6 +55,10 @@ struct TextureRef {
 enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
 
 enum class ReflectionMode : uint8_t { Off, ScreenSpace, ProbesOnly, LocalCubemapOnly };
+// The extensions' names of each enum's values, in the enum's order (engine/scene/EXTENSIONS.md):
+// the loader, the saver and the editor's fields all read these.
+inline constexpr std::array<const char*, 4> kReflectionModeNames = {"off", "screen_space", "probes_only",
+                                                                    "local_cubemap_only"};
 
 // SPECULUM_reflections on a material.
 struct MaterialReflections {
@@ -119,6 +124,9 @@ struct Camera {  // resolved to world space
 enum class ProbeShape : uint8_t { Box, Sphere };
 enum class ProbeKind : uint8_t { LocalCubemap, Cmo };
 enum class ProbeUpdate : uint8_t { Once, OnDemand, EveryFrame, TimeSliced };
+inline constexpr std::array<const char*, 2> kProbeShapeNames = {"box", "sphere"};
+inline constexpr std::array<const char*, 2> kProbeKindNames = {"local_cubemap", "cmo"};
+inline constexpr std::array<const char*, 4> kProbeUpdateNames = {"once", "on_demand", "every_frame", "time_sliced"};
 
 // SPECULUM_reflection_probe on a node.
 struct ReflectionProbe {

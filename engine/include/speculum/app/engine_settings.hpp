@@ -1,4 +1,5 @@
-// The engine's own settings (render.*); modules append their tables.
+// The engine's own settings (render.*, bound to render::RendererOptions: fill the options with
+// fromSettings<render::RendererOptions>()); modules append their tables.
 #pragma once
 
 #include "speculum/render/renderer.hpp"
@@ -7,7 +8,5 @@
 namespace speculum::app {
 
 std::vector<SettingDesc> engineSettingsTable();
-// Copies the render.* values into renderer options.
-void applyRenderSettings(const Settings& settings, render::RendererOptions& options);
 
 }  // namespace speculum::app

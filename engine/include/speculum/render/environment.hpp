@@ -4,6 +4,7 @@
 #pragma once
 
 #include "speculum/gpu/resources.hpp"
+#include "speculum/settings.hpp"
 
 #include <glm/glm.hpp>
 
@@ -51,9 +52,14 @@ using SH9 = std::array<glm::vec4, 9>;
 SH9 projectIrradianceSH(const EquirectImage& image);
 glm::vec3 evalSH(const SH9& sh, glm::vec3 n);
 
+// cubeSize and prefilterSamples are render.environment_size and render.environment_samples: their
+// defaults are the settings table's (engine/render/render_settings.cpp).
 struct EnvironmentOptions {
-    uint32_t cubeSize = 256;        // face size of mip 0
-    uint32_t prefilterSamples = 64; // GGX samples per texel for the rough mips
+    static const SettingFields<EnvironmentOptions>& fields();
+
+    uint32_t cubeSize = settingDefault<&EnvironmentOptions::cubeSize>();  // face size of mip 0
+    // GGX samples per texel for the rough mips
+    uint32_t prefilterSamples = settingDefault<&EnvironmentOptions::prefilterSamples>();
     uint32_t dfgSize = 64;
     float intensity = 1.0f;
 };

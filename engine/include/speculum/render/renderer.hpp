@@ -55,9 +55,13 @@ CameraState frameBounds(const Scene& scene, uint32_t width, uint32_t height);
 // World-space ray through the centre of pixel (x, y): the same convention as the rasterizer.
 void primaryRay(const CameraState& camera, float px, float py, glm::vec3& origin, glm::vec3& direction);
 
+// The render.* settings (app::engineSettingsTable()), whose rows bind these fields and
+// environment's: fromSettings<RendererOptions>() fills them, and the defaults are the table's.
 struct RendererOptions {
-    uint32_t shadowMapSize = 2048;
-    float exposure = 1.0f;  // multiplies the scene's extras.exposure
+    static const SettingFields<RendererOptions>& fields();
+
+    uint32_t shadowMapSize = settingDefault<&RendererOptions::shadowMapSize>();
+    float exposure = settingDefault<&RendererOptions::exposure>();  // multiplies the scene's extras.exposure
     EnvironmentOptions environment;
 };
 

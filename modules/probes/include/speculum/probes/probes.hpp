@@ -24,26 +24,24 @@
 
 namespace speculum::probes {
 
-// The module's settings table (probes.*).
+// The module's settings table (probes.*, ProbeSettings::fields()).
 std::vector<SettingDesc> settingsTable();
 // What the module registers with its host.
 app::ModuleInfo moduleInfo();
 
 enum class DebugView : uint32_t { None = 0, Influence = 1, Winner = 2 };
 
-// Defaults come from settingsTable() (the constructor reads them).
+// Filled by fromSettings<ProbeSettings>(); the defaults are the table's (the constructor writes
+// them).
 struct ProbeSettings {
     ProbeSettings();
-    static ProbeSettings from(const Settings& settings);
+    static const SettingFields<ProbeSettings>& fields();
+    bool operator==(const ProbeSettings&) const = default;
 
     int bounces;           // bakes of every probe at start, each seeing the previous one
     int prefilterSamples;  // GGX samples per texel of the rough mips
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     DebugView debugView;
-
-private:
-    struct Blank {};
-    explicit ProbeSettings(Blank) {}
 };
 
 

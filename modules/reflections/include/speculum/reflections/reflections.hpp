@@ -18,8 +18,8 @@
 
 namespace speculum::reflections {
 
-// The module's settings table (reflections.*): the one description that drives JSON, --set,
-// the editor and the tests.
+// The module's settings table (reflections.*, ReflectionSettings::fields()): the one description
+// that drives JSON, --set, the editor and the tests.
 std::vector<SettingDesc> settingsTable();
 // What the module registers with its host: the table, its AOVs, its debug views.
 app::ModuleInfo moduleInfo();
@@ -37,12 +37,12 @@ enum class CmoTraceMode : uint32_t { Hierarchical = 0, Linear = 1 };
 enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection, Cmo };
 inline constexpr size_t kDebugViewCount = 8;
 
-// The values of settingsTable(). Its defaults are the table's (the constructor reads them), so
-// that no second copy of a default can drift from the table; tests/unit/settings_test.cpp checks
-// every field against the table.
+// The values of settingsTable(), whose rows bind these fields: fromSettings<ReflectionSettings>()
+// fills them, and the defaults are the table's (the constructor writes them), so that no second
+// copy of a name or a default can drift from the table.
 struct ReflectionSettings {
     ReflectionSettings();
-    static ReflectionSettings from(const Settings& settings);
+    static const SettingFields<ReflectionSettings>& fields();
     bool operator==(const ReflectionSettings&) const = default;
 
     bool enabled;
@@ -82,10 +82,6 @@ struct ReflectionSettings {
     float temporalClip;
     DebugView debugView;
     int debugHizMip;
-
-private:
-    struct Blank {};
-    explicit ReflectionSettings(Blank) {}
 };
 
 struct ReflectionInputs {
