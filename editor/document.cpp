@@ -152,26 +152,28 @@ void Document::execute(Command command) {
     ++revision_;
 }
 
-bool Document::undo() {
-    if (undo_.empty()) return false;
-    Entry e = std::move(undo_.back());
-    undo_.pop_back();
-    e.command.revert(*this);
+// Undo and redo are one step: the newest entry of one stack reverted (undo) or applied (redo)
+// and moved to the other.
+bool Document::step(std::vector<Entry>& from, std::vector<Entry>& to, bool apply) {
+    if (from.empty()) return false;
+    Entry e = std::move(from.back());
+    from.pop_back();
+    if (apply)
+        e.command.apply(*this);
+    else
+        e.command.revert(*this);
     touched_ |= bit(e.command.touches);
-    redo_.push_back(std::move(e));
+    to.push_back(std::move(e));
     ++revision_;
     return true;
 }
 
+bool Document::undo() {
+    return step(undo_, redo_, false);
+}
+
 bool Document::redo() {
-    if (redo_.empty()) return false;
-    Entry e = std::move(redo_.back());
-    redo_.pop_back();
-    e.command.apply(*this);
-    touched_ |= bit(e.command.touches);
-    undo_.push_back(std::move(e));
-    ++revision_;
-    return true;
+    return step(redo_, undo_, true);
 }
 
 const std::string& Document::undoName() const {

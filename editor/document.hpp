@@ -100,6 +100,7 @@ private:
     Settings settings_;
     std::vector<Entry> undo_;
     std::vector<Entry> redo_;
+    bool step(std::vector<Entry>& from, std::vector<Entry>& to, bool apply);
     uint64_t nextId_ = 1;
     uint64_t savedId_ = 0;
     bool recovered_ = false;  // dirty regardless of the stack until saved

@@ -24,6 +24,9 @@ struct FrameInput {
     // Settings the HUD changed this frame, before it rendered ("KEY=VALUE"; "preset=NAME" loads a
     // preset): recorded as `s` lines before the frame's `f` line.
     std::vector<std::string> sets;
+
+    // Exact: a recording must replay the frames bit for bit.
+    bool operator==(const FrameInput&) const = default;
 };
 
 struct Recording {

@@ -23,6 +23,9 @@ inline constexpr uint64_t kMaxBufferBytes = uint64_t(1) << 32;
 // 16384x16384 made stb_image allocate 1 GB before finding the data missing (issue 15).
 inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 
+// "meshes[2] \"Cube\"": how messages name an element of a top-level array.
+std::string elementName(const char* array, size_t i, const json& obj);
+
 // Every problem found through a Reader becomes one inputError naming the file and the JSON path
 // of the offending value ("nodes[3] \"Lamp\".mesh: ...").
 class Reader {
@@ -51,13 +54,18 @@ public:
 
     // A top-level array of objects, or an empty array when absent.
     const json& topArray(const json& doc, const char* key) const;
+    // f(element, where) for each element of the top-level array `key`, in order; `where` names
+    // it for messages (elementName).
+    template <typename F>
+    void forEach(const json& doc, const char* key, F&& f) const {
+        const json& items = topArray(doc, key);
+        for (size_t i = 0; i < items.size(); ++i) f(items[i], elementName(key, i, items[i]));
+    }
 
 private:
     std::string file_;
 };
 
-// "meshes[2] \"Cube\"": how messages name an element of a top-level array.
-std::string elementName(const char* array, size_t i, const json& obj);
 const char* jsonTypeName(const json& v);
 
 struct BufferInfo {

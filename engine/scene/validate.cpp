@@ -50,10 +50,7 @@ void checkAsset(const json& doc, const Reader& r) {
 }
 
 void parseBuffers(const json& doc, Document& d, const Reader& r) {
-    const json& buffers = r.topArray(doc, "buffers");
-    for (size_t i = 0; i < buffers.size(); ++i) {
-        const json& b = buffers[i];
-        std::string where = elementName("buffers", i, b);
+    r.forEach(doc, "buffers", [&](const json& b, const std::string& where) {
         BufferInfo info;
         int64_t length = r.integer(b, "byteLength", where, -1);
         if (length < 0) r.fail(where + ".byteLength", "missing or negative");
@@ -62,11 +59,8 @@ void parseBuffers(const json& doc, Document& d, const Reader& r) {
         info.byteLength = uint64_t(length);
         info.uri = r.string(b, "uri", where);
         d.buffers.push_back(info);
-    }
-    const json& views = r.topArray(doc, "bufferViews");
-    for (size_t i = 0; i < views.size(); ++i) {
-        const json& v = views[i];
-        std::string where = elementName("bufferViews", i, v);
+    });
+    r.forEach(doc, "bufferViews", [&](const json& v, const std::string& where) {
         BufferViewInfo info;
         info.buffer = r.index(v, "buffer", where, d.buffers.size(), "buffers", true);
         int64_t offset = r.integer(v, "byteOffset", where, 0);
@@ -87,7 +81,7 @@ void parseBuffers(const json& doc, Document& d, const Reader& r) {
         info.byteLength = uint64_t(length);
         info.byteStride = uint32_t(stride);
         d.bufferViews.push_back(info);
-    }
+    });
 }
 
 // Checks that `count` elements of `elemSize` bytes at `offset` with `stride` fit in a view.
@@ -221,10 +215,7 @@ PrimitiveInfo parsePrimitive(const json& p, const std::string& where, const Docu
 }
 
 void parseMeshes(const json& doc, Document& d, const Reader& r) {
-    const json& meshes = r.topArray(doc, "meshes");
-    for (size_t i = 0; i < meshes.size(); ++i) {
-        const json& m = meshes[i];
-        std::string where = elementName("meshes", i, m);
+    r.forEach(doc, "meshes", [&](const json& m, const std::string& where) {
         MeshInfo info;
         info.name = r.string(m, "name", where);
         const json* prims = r.array(m, "primitives", where);
@@ -235,7 +226,7 @@ void parseMeshes(const json& doc, Document& d, const Reader& r) {
             info.primitives.push_back(parsePrimitive((*prims)[p], pw, d, d.materialCount, r));
         }
         d.meshes.push_back(std::move(info));
-    }
+    });
 }
 
 void parseTexturesAndImages(const json& doc, Document& d, const Reader& r) {
@@ -304,10 +295,7 @@ void parseLightDefs(const json& doc, Document& d, const Reader& r) {
 }
 
 void parseCameraDefs(const json& doc, Document& d, const Reader& r) {
-    const json& cameras = r.topArray(doc, "cameras");
-    for (size_t i = 0; i < cameras.size(); ++i) {
-        const json& c = cameras[i];
-        std::string where = elementName("cameras", i, c);
+    r.forEach(doc, "cameras", [&](const json& c, const std::string& where) {
         Camera cam;
         cam.name = r.string(c, "name", where);
         std::string type = r.string(c, "type", where);
@@ -336,7 +324,7 @@ void parseCameraDefs(const json& doc, Document& d, const Reader& r) {
         if (cam.aspectRatio < 0) r.fail(pw + ".aspectRatio", "negative");
         if (cam.zfar != 0 && cam.zfar <= cam.znear) r.fail(pw + ".zfar", "not beyond znear");
         d.cameras.push_back(cam);
-    }
+    });
 }
 
 void parseSceneChoice(const json& doc, Document& d, const Reader& r) {

@@ -33,12 +33,7 @@ constexpr uint32_t kRes = 128;
 // The room's six inward faces and the box's five outward ones (its bottom lies on the floor).
 Scene boxRoom() {
     Scene scene;
-    Material grey;
-    grey.name = "grey";
-    grey.baseColor = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
-    grey.metallic = 0.0f;
-    grey.roughness = 0.8f;
-    scene.materials = {grey};
+    scene.materials = {render::test::greyMaterial("grey", 0.6f, 0.8f)};
     using render::test::square;
     const float r = float(kRoom);
     for (const auto& p : {square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, r, 0), square({0, 2 * r, 0}, {1, 0, 0}, {0, 0, 1}, r, 0),
@@ -163,31 +158,19 @@ public:
             queries.push_back({glm::vec4(glm::vec3(rays[i].o), floor ? 1.0f : 0.0f), glm::vec4(glm::vec3(rays[i].r), 20.0f),
                                glm::vec4(0, 1, 0, 0)});
         }
-        gpu::Buffer in(ctx_, sizeof(Query) * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.queries");
-        std::memcpy(in.mapped(), queries.data(), in.size());
-        gpu::Buffer out(ctx_, sizeof(glm::vec4) * 2 * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
-                        "test.results");
         VkImageView distance = module.cmoDistance().view();
-        ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-            pipeline_.bind(cmd);
+        return render::test::runQueries(ctx_, pipeline_, queries, 2, [&](VkCommandBuffer cmd, gpu::DescriptorWriter& w) {
             // The tracers read distances only: the other arrays are bound to the distance array.
             const VkImageLayout general = VK_IMAGE_LAYOUT_GENERAL;
-            gpu::DescriptorWriter()
-                .buffer("CmoBuffer", recs.get())
+            w.buffer("CmoBuffer", recs.get())
                 .sampled("cmoDistance", distance, sampler_.get(), general)
                 .sampled("cmoLayers", distance, sampler_.get(), general)
                 .sampled("cmoAttr", distance, sampler_.get(), general)
                 .sampled("cmoAlbedo", distance, sampler_.get(), general)
-                .buffer("Queries", in.get())
-                .buffer("Results", out.get())
                 .push(ctx_, cmd, pipeline_);
             glm::vec4 params(step, 0.05f, 100000.0f, float(queries.size()));
             vkCmdPushConstants(cmd, pipeline_.layout(), kCompute, 0, sizeof(params), &params);
-            vkCmdDispatch(cmd, (uint32_t(queries.size()) + 63) / 64, 1, 1);
         });
-        std::vector<glm::vec4> results(2 * queries.size());
-        std::memcpy(results.data(), out.mapped(), results.size() * sizeof(glm::vec4));
-        return results;
     }
 
 private:

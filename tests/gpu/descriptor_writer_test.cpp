@@ -67,25 +67,24 @@ TEST(DescriptorWriter, WritesByNameReachTheShadersBindings) {
     EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
 }
 
-TEST(DescriptorWriter, UnknownNameThrows) {
+// The buffers a case writes, by name, in order, and the words its error must hold.
+void expectPushError(std::initializer_list<const char*> writes, std::initializer_list<const char*> mentions) {
     UboRig r;
     gpu::DescriptorWriter w;
-    w.buffer("params", r.params.get()).buffer("outBuf", r.out.get()).buffer("paramz", r.params.get());
-    expectMentions(pushError(r.ctx, r.pipeline, w), {"test.writer", "tests/branch_on_ubo.comp", "paramz"});
+    for (const char* name : writes) w.buffer(name, std::string(name) == "outBuf" ? r.out.get() : r.params.get());
+    expectMentions(pushError(r.ctx, r.pipeline, w), mentions);
+}
+
+TEST(DescriptorWriter, UnknownNameThrows) {
+    expectPushError({"params", "outBuf", "paramz"}, {"test.writer", "tests/branch_on_ubo.comp", "paramz"});
 }
 
 TEST(DescriptorWriter, MissingBindingThrows) {
-    UboRig r;
-    gpu::DescriptorWriter w;
-    w.buffer("params", r.params.get());
-    expectMentions(pushError(r.ctx, r.pipeline, w), {"test.writer", "tests/branch_on_ubo.comp", "outBuf", "binding 1"});
+    expectPushError({"params"}, {"test.writer", "tests/branch_on_ubo.comp", "outBuf", "binding 1"});
 }
 
 TEST(DescriptorWriter, NameWrittenTwiceThrows) {
-    UboRig r;
-    gpu::DescriptorWriter w;
-    w.buffer("params", r.params.get()).buffer("outBuf", r.out.get()).buffer("params", r.params.get());
-    expectMentions(pushError(r.ctx, r.pipeline, w), {"test.writer", "params", "twice"});
+    expectPushError({"params", "outBuf", "params"}, {"test.writer", "params", "twice"});
 }
 
 // tests/reflect_kinds.comp: `target` is an image2D, `params` a uniform block.

@@ -43,6 +43,24 @@ int firstProbeNode(const Scene& scene) {
     return -1;
 }
 
+// The closed room with its one probe at `resolution` and `update`.
+Scene closedRoomProbe(uint32_t resolution, ProbeUpdate update) {
+    Scene scene = loadAsset("closed_room");
+    int node = firstProbeNode(scene);
+    EXPECT_GE(node, 0);
+    scene.nodes[size_t(node)].probe->resolution = resolution;
+    scene.nodes[size_t(node)].probe->update = update;
+    return scene;
+}
+
+// One bounce (a quick bake) and the prefilter cut into steps of `slice` (1024 texel-samples).
+probes::ProbeSettings quickBake(int slice) {
+    probes::ProbeSettings ps;
+    ps.bounces = 1;
+    ps.prefilterSlice = slice;
+    return ps;
+}
+
 // tonemap.frag on the CPU (exact sRGB OETF instead of its fit, which is within 0.1/255).
 float tonemap(float x, float exposure) {
     x = std::max(x * exposure, 0.0f);
@@ -90,25 +108,11 @@ public:
         gpu::Buffer recs(ctx_, sizeof(probes::shader::Probe) * 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.records");
         std::memset(recs.mapped(), 0, recs.size());
         std::memcpy(recs.mapped(), records.data(), records.size() * sizeof(probes::shader::Probe));
-        gpu::Buffer in(ctx_, sizeof(Query) * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.queries");
-        std::memcpy(in.mapped(), queries.data(), in.size());
-        gpu::Buffer out(ctx_, sizeof(glm::vec4) * 4 * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
-                        "test.results");
-        ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-            pipeline_.bind(cmd);
-            gpu::DescriptorWriter()
-                .buffer("ProbeBuffer", recs.get())
-                .sampled("probeCubes", cubes_.view(), sampler_)
-                .buffer("Queries", in.get())
-                .buffer("Results", out.get())
-                .push(ctx_, cmd, pipeline_);
+        return render::test::runQueries(ctx_, pipeline_, queries, 4, [&](VkCommandBuffer cmd, gpu::DescriptorWriter& w) {
+            w.buffer("ProbeBuffer", recs.get()).sampled("probeCubes", cubes_.view(), sampler_).push(ctx_, cmd, pipeline_);
             glm::uvec4 info(uint32_t(queries.size()), uint32_t(records.size()), 0u, 0u);
             vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(info), &info);
-            vkCmdDispatch(cmd, (uint32_t(queries.size()) + 63) / 64, 1, 1);
         });
-        std::vector<glm::vec4> results(4 * queries.size());
-        std::memcpy(results.data(), out.mapped(), results.size() * sizeof(glm::vec4));
-        return results;
     }
 
 private:
@@ -128,12 +132,7 @@ struct ProbeNodeDesc {
 
 Scene probeScene(const std::vector<ProbeNodeDesc>& descs) {
     Scene scene;
-    Material floor;
-    floor.name = "floor";
-    floor.baseColor = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
-    floor.metallic = 0.0f;
-    floor.roughness = 0.3f;
-    scene.materials = {floor};
+    scene.materials = {render::test::greyMaterial("floor", 0.6f, 0.3f)};
     render::test::addMesh(scene, render::test::square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 10.0f, 0));
     for (const ProbeNodeDesc& d : descs) {
         Node n;
@@ -503,17 +502,9 @@ TEST_F(ProbesGpu, HigherOrderProbeTakesTheWholeWeightInTheOverlap) {
 // on the same device, so the cubes are expected to be bit-identical; the test allows 1e-4
 // (absolute, on radiance of order 1) in case a driver schedules the GGX sums differently.
 TEST_F(ProbesGpu, TimeSlicedUpdatesEqualTheOnceBakedCubeAfterOneCycle) {
-    Scene once = loadAsset("closed_room");
-    int node = firstProbeNode(once);
-    ASSERT_GE(node, 0);
-    once.nodes[size_t(node)].probe->resolution = 64;
-    once.nodes[size_t(node)].probe->update = ProbeUpdate::Once;
-    Scene sliced = once;
-    sliced.nodes[size_t(node)].probe->update = ProbeUpdate::TimeSliced;
-
-    probes::ProbeSettings ps;
-    ps.bounces = 1;
-    ps.prefilterSlice = 16;
+    Scene once = closedRoomProbe(64, ProbeUpdate::Once);
+    Scene sliced = closedRoomProbe(64, ProbeUpdate::TimeSliced);
+    const probes::ProbeSettings ps = quickBake(16);
     render::Renderer rendererA(*ctx_, once);
     probes::Probes a(*ctx_, rendererA, ps);
     a.update();
@@ -556,14 +547,9 @@ TEST_F(ProbesGpu, TimeSlicedUpdatesEqualTheOnceBakedCubeAfterOneCycle) {
 // the cube is the capture from the new place: mip 0 differs from the old bake and equals the
 // same move with the prefilter in one step (probes.prefilter_slice at its maximum).
 TEST_F(ProbesGpu, MovedProbeIsCapturedAgainOverOneTimeSlicedCycle) {
-    Scene scene = loadAsset("closed_room");
-    int node = firstProbeNode(scene);
-    ASSERT_GE(node, 0);
-    scene.nodes[size_t(node)].probe->resolution = 32;
-    scene.nodes[size_t(node)].probe->update = ProbeUpdate::OnDemand;
-    probes::ProbeSettings ps;
-    ps.bounces = 1;
-    ps.prefilterSlice = 8;
+    Scene scene = closedRoomProbe(32, ProbeUpdate::OnDemand);
+    const int node = firstProbeNode(scene);
+    const probes::ProbeSettings ps = quickBake(8);
     render::Renderer renderer(*ctx_, scene);
     probes::Probes moved(*ctx_, renderer, ps);
     moved.update();

@@ -5,6 +5,7 @@
 #include "speculum/framegraph.hpp"
 #include "speculum/gpu/context.hpp"
 #include "speculum/gpu/fg_executor.hpp"
+#include "speculum/gpu/pipeline.hpp"
 #include "speculum/gpu/resources.hpp"
 #include "speculum/render/renderer.hpp"
 #include "speculum/scene.hpp"
@@ -13,6 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -48,6 +51,39 @@ inline glm::ivec2 pixelOf(const CameraState& c, glm::vec3 world) {
     glm::vec4 clip = c.viewProj * glm::vec4(world, 1.0f);
     glm::vec2 ndc = glm::vec2(clip) / clip.w;
     return glm::ivec2(glm::floor((ndc * 0.5f + 0.5f) * glm::vec2(c.width, c.height)));
+}
+
+// Runs a test kernel over `queries` (64 to a workgroup, its buffers `Queries` and `Results`):
+// `bind` writes the kernel's other descriptors into the writer and pushes its constants.
+// Returns `perQuery` vec4 results per query.
+template <typename Query>
+std::vector<glm::vec4> runQueries(const gpu::Context& ctx, const gpu::Pipeline& pipeline, const std::vector<Query>& queries,
+                                  size_t perQuery,
+                                  const std::function<void(VkCommandBuffer, gpu::DescriptorWriter&)>& bind) {
+    gpu::Buffer in(ctx, sizeof(Query) * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "test.queries");
+    std::memcpy(in.mapped(), queries.data(), in.size());
+    gpu::Buffer out(ctx, sizeof(glm::vec4) * perQuery * queries.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+                    "test.results");
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        pipeline.bind(cmd);
+        gpu::DescriptorWriter w;
+        w.buffer("Queries", in.get()).buffer("Results", out.get());
+        bind(cmd, w);
+        vkCmdDispatch(cmd, (uint32_t(queries.size()) + 63) / 64, 1, 1);
+    });
+    std::vector<glm::vec4> results(perQuery * queries.size());
+    std::memcpy(results.data(), out.mapped(), results.size() * sizeof(glm::vec4));
+    return results;
+}
+
+// A dielectric material of one grey level and roughness.
+inline Material greyMaterial(const std::string& name, float grey, float roughness) {
+    Material m;
+    m.name = name;
+    m.baseColor = glm::vec4(grey, grey, grey, 1.0f);
+    m.metallic = 0.0f;
+    m.roughness = roughness;
+    return m;
 }
 
 // A square of side 2 * half in the plane through `center` spanned by axes u and v; its front

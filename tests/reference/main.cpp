@@ -162,8 +162,7 @@ int main(int argc, char** argv) {
     cli.add_option("--bounces", o.bounces, "reflective surfaces traced this deep (default 2)");
     cli.add_option("--seed", o.seed, "random seed (same seed, same image; default 1)");
     cli.add_option("--threads", o.threads, "render threads (default: all hardware threads)");
-    cli.add_option("--settings", o.settingsFile, "JSON settings file (render.exposure is used)");
-    cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable; render.exposure is used)");
+    app::addSettingsOptions(cli, o.settingsFile, o.sets, "render.exposure");
     cli.add_option("--aov", o.aov,
                    "comma list: linear,color,reflection,depth,normal,reflective (default linear,color,reflection,reflective)");
     cli.add_option("--out", o.out, "output directory");

@@ -9,30 +9,29 @@
 namespace speculum::scenetest {
 namespace {
 
-TEST(HiddenPrimaryExtras, ReadFromTheNode) {
-    auto dir = tmpDir("hidden_primary");
+// The quad with these extras on its two nodes (null: none), written as `file` and loaded.
+Scene quadWithExtras(const std::string& file, const json& extras0, const json& extras1) {
     GltfData g = quad();
-    g.doc["nodes"][1]["extras"] = {{"speculum_hidden_primary", true}, {"other", 1}};
-    Scene scene = loadScene(writeGltf(dir / "hidden.gltf", g));
+    if (!extras0.is_null()) g.doc["nodes"][0]["extras"] = extras0;
+    if (!extras1.is_null()) g.doc["nodes"][1]["extras"] = extras1;
+    return loadScene(writeGltf(tmpDir("hidden_primary") / file, g));
+}
+
+TEST(HiddenPrimaryExtras, ReadFromTheNode) {
+    Scene scene = quadWithExtras("hidden.gltf", nullptr, {{"speculum_hidden_primary", true}, {"other", 1}});
     EXPECT_FALSE(scene.nodes[0].hiddenPrimary);
     EXPECT_TRUE(scene.nodes[1].hiddenPrimary);
 }
 
 TEST(HiddenPrimaryExtras, ExtrasOfAnyTypeStillLoad) {
-    auto dir = tmpDir("hidden_primary");
-    GltfData g = quad();
-    g.doc["nodes"][0]["extras"] = 5;
-    g.doc["nodes"][1]["extras"] = json::array({"speculum_hidden_primary", true});
-    Scene scene = loadScene(writeGltf(dir / "extras_any.gltf", g));
+    Scene scene = quadWithExtras("extras_any.gltf", 5, json::array({"speculum_hidden_primary", true}));
     EXPECT_FALSE(scene.nodes[0].hiddenPrimary);
     EXPECT_FALSE(scene.nodes[1].hiddenPrimary);
 }
 
 TEST(HiddenPrimaryExtras, SurvivesASave) {
     auto dir = tmpDir("hidden_primary");
-    GltfData g = quad();
-    g.doc["nodes"][1]["extras"] = {{"speculum_hidden_primary", true}};
-    Scene scene = loadScene(writeGltf(dir / "hidden_src.gltf", g));
+    Scene scene = quadWithExtras("hidden_src.gltf", nullptr, {{"speculum_hidden_primary", true}});
     saveScene(scene, dir / "hidden_saved.gltf");
     Scene back = loadScene(dir / "hidden_saved.gltf");
     EXPECT_TRUE(back.nodes[1].hiddenPrimary);

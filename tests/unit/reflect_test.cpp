@@ -16,13 +16,27 @@ std::vector<gpu::ReflectedBinding> reflect(const std::string& shader, VkShaderSt
     return gpu::reflectBindings(gpu::loadSpirv(shader), stage, shader);
 }
 
-void expectBinding(const gpu::ReflectedBinding& b, const std::string& name, uint32_t binding, VkDescriptorType type,
-                   VkShaderStageFlags stages, uint32_t count = 1) {
-    EXPECT_EQ(b.name, name);
-    EXPECT_EQ(b.binding, binding) << name;
-    EXPECT_EQ(b.type, type) << name;
-    EXPECT_EQ(b.stages, stages) << name;
-    EXPECT_EQ(b.count, count) << name;
+struct Expected {
+    const char* name;
+    uint32_t binding;
+    VkDescriptorType type;
+    uint32_t count = 1;
+};
+
+void expectBinding(const gpu::ReflectedBinding& b, const Expected& e, VkShaderStageFlags stages) {
+    EXPECT_EQ(b.name, e.name);
+    EXPECT_EQ(b.binding, e.binding) << e.name;
+    EXPECT_EQ(b.type, e.type) << e.name;
+    EXPECT_EQ(b.stages, stages) << e.name;
+    EXPECT_EQ(b.count, e.count) << e.name;
+}
+
+// The table in binding order, every row of it and nothing more, each in `stages`.
+void expectBindings(const std::vector<gpu::ReflectedBinding>& table, VkShaderStageFlags stages,
+                    std::initializer_list<Expected> expected) {
+    ASSERT_EQ(table.size(), expected.size());
+    size_t i = 0;
+    for (const Expected& e : expected) expectBinding(table[i++], e, stages);
 }
 
 constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -36,31 +50,28 @@ constexpr VkShaderStageFlags kCompute = VK_SHADER_STAGE_COMPUTE_BIT;
 // modules/probes/shaders/debug.comp: two textures, the probe records (an anonymous block: its type
 // name), the probe cubes, the output image; bindings 0-4 by way of PROBES_*_BINDING.
 TEST(Reflect, ProbesDebugShaderAsTheGlslDeclaresIt) {
-    auto b = reflect("probes/debug.comp", VK_SHADER_STAGE_COMPUTE_BIT);
-    ASSERT_EQ(b.size(), 5u);
-    expectBinding(b[0], "depthTex", 0, kSampled, kCompute);
-    expectBinding(b[1], "normalTex", 1, kSampled, kCompute);
-    expectBinding(b[2], "ProbeBuffer", 2, kStorageBuffer, kCompute);
-    expectBinding(b[3], "probeCubes", 3, kSampled, kCompute);
-    expectBinding(b[4], "outImage", 4, kStorageImage, kCompute);
+    expectBindings(reflect("probes/debug.comp", VK_SHADER_STAGE_COMPUTE_BIT), kCompute,
+                   {{"depthTex", 0, kSampled},
+                    {"normalTex", 1, kSampled},
+                    {"ProbeBuffer", 2, kStorageBuffer},
+                    {"probeCubes", 3, kSampled},
+                    {"outImage", 4, kStorageImage}});
 }
 
 // tests/shaders/reflect_kinds.comp: every kind, an array, a named block (its instance name)
 // and a binding main() never reads, which is listed: the table is the declaration.
 TEST(Reflect, KindsArraysBlockNamesAndUnusedBindings) {
-    auto b = reflect("tests/reflect_kinds.comp", VK_SHADER_STAGE_COMPUTE_BIT);
-    ASSERT_EQ(b.size(), 5u);
-    expectBinding(b[0], "textures", 0, kSampled, kCompute, 3);
-    expectBinding(b[1], "target", 1, kStorageImage, kCompute);
-    expectBinding(b[2], "params", 2, kUniformBuffer, kCompute);
-    expectBinding(b[3], "Values", 3, kStorageBuffer, kCompute);
-    expectBinding(b[4], "unusedCube", 5, kSampled, kCompute);
+    expectBindings(reflect("tests/reflect_kinds.comp", VK_SHADER_STAGE_COMPUTE_BIT), kCompute,
+                   {{"textures", 0, kSampled, 3},
+                    {"target", 1, kStorageImage},
+                    {"params", 2, kUniformBuffer},
+                    {"Values", 3, kStorageBuffer},
+                    {"unusedCube", 5, kSampled}});
 }
 
 TEST(Reflect, StageIsTheCallersAndShaderWithoutBindingsIsEmpty) {
-    auto frag = reflect("engine/tonemap.frag", VK_SHADER_STAGE_FRAGMENT_BIT);
-    ASSERT_EQ(frag.size(), 1u);
-    expectBinding(frag[0], "linearTex", 0, kSampled, VK_SHADER_STAGE_FRAGMENT_BIT);
+    expectBindings(reflect("engine/tonemap.frag", VK_SHADER_STAGE_FRAGMENT_BIT), VK_SHADER_STAGE_FRAGMENT_BIT,
+                   {{"linearTex", 0, kSampled}});
     EXPECT_TRUE(reflect("engine/fullscreen.vert", VK_SHADER_STAGE_VERTEX_BIT).empty());
 }
 
@@ -70,9 +81,9 @@ TEST(Reflect, MergeOrsTheStagesOfABindingBothShadersDeclare) {
         gpu::mergeBindings(reflect("engine/gbuffer.vert", VK_SHADER_STAGE_VERTEX_BIT), "engine/gbuffer.vert",
                            reflect("engine/gbuffer.frag", VK_SHADER_STAGE_FRAGMENT_BIT), "engine/gbuffer.frag");
     ASSERT_EQ(merged.size(), 5u);
-    expectBinding(merged[0], "frame", 0, kUniformBuffer, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
-    expectBinding(merged[1], "baseColorTex", 1, kSampled, VK_SHADER_STAGE_FRAGMENT_BIT);
-    expectBinding(merged[4], "emissiveTex", 4, kSampled, VK_SHADER_STAGE_FRAGMENT_BIT);
+    expectBinding(merged[0], {"frame", 0, kUniformBuffer}, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    expectBinding(merged[1], {"baseColorTex", 1, kSampled}, VK_SHADER_STAGE_FRAGMENT_BIT);
+    expectBinding(merged[4], {"emissiveTex", 4, kSampled}, VK_SHADER_STAGE_FRAGMENT_BIT);
 }
 
 // lighting.frag's binding 1 is albedoTex, gbuffer.frag's baseColorTex: one pipeline cannot hold both.

@@ -163,8 +163,7 @@ int main(int argc, char** argv) {
     app::addCameraOptions(cli, o.view, o.size);
     cli.add_option("--frames", o.frames, "frames to render and time (default 1; not with --path)");
     cli.add_option("--warmup", o.warmup, "untimed frames first (default 3)");
-    cli.add_option("--settings", o.settingsFile, "JSON settings file");
-    cli.add_option("--set", o.sets, "KEY=VALUE setting (repeatable)");
+    app::addSettingsOptions(cli, o.settingsFile, o.sets);
     const std::string aovHelp = "comma list: " + knownAovs(",") + " (default color)";
     cli.add_option("--aov", o.aov, aovHelp);
     cli.add_option("--out", o.out, "output directory");

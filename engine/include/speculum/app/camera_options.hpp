@@ -1,5 +1,5 @@
-// The CLI11 options of the camera flags (camera_flags.hpp), header-only so that a tool needs no
-// extra library.
+// The CLI11 options the tools share: the camera flags (camera_flags.hpp) and the settings
+// flags; header-only, so that a tool needs no extra library.
 #pragma once
 
 #include "speculum/app/camera_flags.hpp"
@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 namespace speculum::app {
 
@@ -21,6 +22,15 @@ inline void addCameraOptions(CLI::App& cli, CameraFlags& flags, std::string& siz
     cli.add_option("--fov", flags.fov, "vertical field of view in degrees (with --eye; default 60)");
     cli.add_option("--path", flags.path, "JSON camera path: one output frame per path frame");
     cli.add_option("--size", size, "image size WxH (default 960x540)");
+}
+
+// --settings FILE and --set KEY=VALUE (repeatable), applied by the tool after parsing; `uses`
+// says which settings the tool reads ("" all).
+inline void addSettingsOptions(CLI::App& cli, std::string& file, std::vector<std::string>& sets,
+                               const std::string& uses = "") {
+    const std::string used = uses.empty() ? "" : uses + " is used";
+    cli.add_option("--settings", file, "JSON settings file" + (used.empty() ? "" : " (" + used + ")"));
+    cli.add_option("--set", sets, "KEY=VALUE setting (repeatable" + (used.empty() ? "" : "; " + used) + ")");
 }
 
 }  // namespace speculum::app
