@@ -21,7 +21,7 @@ float aces(float x) {
     return std::clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), 0.0f, 1.0f);
 }
 
-class RenderPasses : public test::ValidatedContextTest {};
+using test::RenderPasses;
 
 TEST_F(RenderPasses, UnlitQuadWritesItsBaseColourExactly) {
     Scene scene;

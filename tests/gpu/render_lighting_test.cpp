@@ -50,7 +50,7 @@ glm::vec3 brdfCos(glm::vec3 n, glm::vec3 v, glm::vec3 l, glm::vec3 base, float m
     return (base * (1.0f - metallic) / kPi + D * V * F) * NoL;
 }
 
-class RenderPasses : public test::ValidatedContextTest {};
+using test::RenderPasses;
 
 TEST_F(RenderPasses, LambertPlaneUnderADirectionalLightMatchesTheCpu) {
     Scene scene;

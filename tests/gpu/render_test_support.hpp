@@ -46,6 +46,10 @@ protected:
     gpu::Context ctx;
 };
 
+// The renderer's passes (render_gbuffer_test.cpp, render_lighting_test.cpp): one suite over two
+// files, so one fixture class (gtest requires it).
+class RenderPasses : public ValidatedContextTest {};
+
 // The pixel a world point lands in (its centre is the nearest pixel centre).
 inline glm::ivec2 pixelOf(const CameraState& c, glm::vec3 world) {
     glm::vec4 clip = c.viewProj * glm::vec4(world, 1.0f);
