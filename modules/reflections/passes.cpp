@@ -136,7 +136,7 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             },
             [this](const DownData& data, PassContext& pc) {
                 gpu::DescriptorWriter w;  // color_down.comp reads no frame constants
-                w.sampled("src", pc.view(data.src, mipLevel(data.level - 1)), nearest)
+                w.sampled("src", pc.view(data.src, mipLevel(data.level - 1)), trilinear)
                     .storage("dst", pc.view(data.dst, mipLevel(data.level)))
                     .sampled("visibilityLevel", pc.view(data.visibility, mipLevel(data.level)), nearest);
                 dispatch(pc, colorDown, w, pc.extent(data.dst, data.level));
