@@ -225,6 +225,9 @@ private:
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
     double fpsTime_ = 0.0, smoothedMs_ = 0.0;
     int fpsFrames_ = 0, frames_ = 0, sinceResize_ = 0;
+    double worstMs_ = 0.0;  // the slowest frame after the start's bake, and which it was
+    int worstFrame_ = -1;
+    double hitchBaseMs_ = 0.0;
     size_t cursor_ = 0;  // the recording's frame: one per loop, rendered or not (a swapchain re-creation)
     std::vector<app::PassTime> lastPasses_;
 };
@@ -325,9 +328,10 @@ void GameApp::apply(const game::Game::Events& ev) {
         const game::Collectible& c = game_.collectibles()[size_t(i)];
         std::printf("frame %d: collected %s (%d/%zu) at %.2f s\n", frames_, c.name.c_str(), game_.taken(),
                     game_.collectibles().size(), game_.time());
-        // Gone from the main view and, after the re-bake, from every reflection.
+        // Gone from the main view at once and from the reflections as the probe and the CMOs
+        // are captured again, a face per frame (a whole re-bake here was a 0.5-2 s hitch).
         renderer_.setNodeVisible(c.node, false);
-        chain_.probes().requestUpdate(-1);
+        chain_.probes().recapture(-1);
     }
     if (ev.won)
         std::printf("frame %d: won: all %zu found in %.2f s, %d wall hits\n", frames_, game_.collectibles().size(),
@@ -342,6 +346,15 @@ bool GameApp::frame() {
     auto now = std::chrono::steady_clock::now();
     double wallMs = std::chrono::duration<double, std::milli>(now - last_).count();
     last_ = now;
+    // wallMs is the frame before this one; the first frames bake the probes and compile.
+    if (frames_ > 3 && wallMs > worstMs_) {
+        worstMs_ = wallMs;
+        worstFrame_ = frames_ - 1;
+    }
+    // A hitch: over 100 ms and over twice the running frame time (a bake, a pipeline compiled).
+    if (frames_ > 3 && wallMs > 100.0 && wallMs > 2.0 * hitchBaseMs_)
+        std::printf("frame %d: hitch, %.0f ms (frames take about %.0f ms)\n", frames_ - 1, wallMs, hitchBaseMs_);
+    hitchBaseMs_ = hitchBaseMs_ == 0.0 ? wallMs : 0.9 * hitchBaseMs_ + 0.1 * wallMs;
     bool done = false;
     game::FrameInput in = nextInput(wallMs, done);
     if (done) return false;
@@ -430,6 +443,7 @@ int GameApp::finish() {
         game::writeRecording(opt_.record, recording_);
         std::cout << "speculum-game: recorded " << recording_.frames.size() << " frames to " << opt_.record << "\n";
     }
+    if (worstFrame_ >= 0) std::printf("slowest frame after the start: %.1f ms (frame %d)\n", worstMs_, worstFrame_);
     std::printf("speculum-game: %d frames, found %d/%zu, %s\n", frames_, game_.taken(), game_.collectibles().size(),
                 game_.won() ? "won" : "not won");
     if (ctx_.validationEnabled() && gpu::Context::validationMessageCount() > 0) {

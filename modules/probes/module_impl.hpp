@@ -40,7 +40,7 @@ struct Probes::Impl {
     gpu::VulkanFrameGraphExecutor executor;
 
     // Update state.
-    std::vector<int> relocating;   // moveProbe: the next face to capture again, -1 none
+    std::vector<int> relocating;   // moveProbe, recapture: the next step of its cycle, -1 none
     std::vector<bool> movedAgain;  // moved since its re-capture began: one more cycle
     bool baked = false;  // the array holds a bake: captures see it (else only the sky)
     std::vector<bool> pending;
@@ -69,7 +69,7 @@ struct Probes::Impl {
         std::vector<bool> blind;  // baked and saw only sky: left out of tracing
         size_t faces = 0;         // CMO faces captured and their GPU milliseconds
         double ms = 0.0;
-        std::vector<int> relocating;  // moveProbe: the next face to capture again, -1 none
+        std::vector<int> relocating;  // moveProbe, recapture: the next step of its cycle, -1 none
         std::vector<bool> movedAgain; // moved since its re-capture began: one more cycle
         size_t slice = 0;
     };
@@ -111,7 +111,7 @@ struct Probes::Impl {
     void finishCmo(size_t index);
     uint32_t writeCmoRecords();
     void updateCmos(const Progress& progress);
-    // One face of every relocating probe and CMO (moveProbe).
+    // One step of the first probe or CMO whose capture cycle is under way (moveProbe, recapture).
     void stepRelocations();
 };
 

@@ -53,6 +53,16 @@ Scene closedRoomProbe(uint32_t resolution, ProbeUpdate update) {
     return scene;
 }
 
+// Every face of a cube array's mip 0, in face order (SHADER_READ_ONLY between uses).
+std::vector<float> cubeMip0(const gpu::Context& ctx, const gpu::Image& cubes) {
+    std::vector<float> all;
+    for (uint32_t face = 0; face < cubes.desc().layers; ++face) {
+        auto f = gpu::readImageRGBA(ctx, cubes.get(), cubes.desc(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 0, face);
+        all.insert(all.end(), f.begin(), f.end());
+    }
+    return all;
+}
+
 // One bounce (a quick bake) and the prefilter cut into steps of `slice` (1024 texel-samples).
 probes::ProbeSettings quickBake(int slice) {
     probes::ProbeSettings ps;
@@ -597,6 +607,65 @@ TEST_F(ProbesGpu, MovedProbeIsCapturedAgainOverOneTimeSlicedCycle) {
               << "\n";
     EXPECT_GT(changed, 1e-3f) << "the cube is still the old bake";
     EXPECT_LE(worst, 1e-4f);
+}
+
+// 5b. A gem taken in the game (recapture after a node is hidden): the probe and both CMOs of the
+// hall of mirrors are captured again one step an update, never more than one face an update,
+// all of them blended or traced throughout, and at the end they equal a whole re-bake of the
+// same state (requestUpdate, the game's old way): the sliced prefilter and the CMO faces
+// captured one by one change nothing but when the work is done.
+TEST_F(ProbesGpu, RecaptureStepsOneFaceAnUpdateAndEqualsAWholeRebake) {
+    Scene scene = loadAsset("hall_of_mirrors");
+    for (Node& n : scene.nodes)
+        if (n.probe) n.probe->resolution = 32;
+    int gem = -1;
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].name == "collectible.0") gem = int(i);
+    ASSERT_GE(gem, 0);
+    const probes::ProbeSettings ps = quickBake(8);
+    render::Renderer rendererA(*ctx_, scene), rendererB(*ctx_, scene);
+    probes::Probes sliced(*ctx_, rendererA, ps), whole(*ctx_, rendererB, ps);
+    sliced.update();
+    whole.update();
+    ASSERT_EQ(sliced.probes().size(), 1u);
+    ASSERT_EQ(sliced.cmos().size(), 2u);
+    const std::vector<float> before = cubeMip0(*ctx_, sliced.cubes());
+    rendererA.setNodeVisible(gem, false);
+    rendererB.setNodeVisible(gem, false);
+    sliced.recapture(-1);
+    whole.requestUpdate(-1);
+    whole.update();
+    auto faces = [](const probes::Probes& p) { return p.facesCaptured() + p.cmoFacesCaptured(); };
+    const size_t cycle = sliced.timeSlicedCycle() + 12;  // the probe's cycle, then six faces per CMO
+    for (size_t k = 0; k < cycle; ++k) {
+        EXPECT_TRUE(sliced.relocating()) << "update " << k;
+        const size_t was = faces(sliced);
+        sliced.update();
+        EXPECT_LE(faces(sliced) - was, 1u) << "update " << k;
+        FrameGraph fg(FrameGraphConfig{8, 8});
+        probes::ProbeSet set = sliced.addPasses(fg);
+        EXPECT_EQ(set.count, 1u) << "the probe is blended throughout, update " << k;
+        EXPECT_EQ(set.cmos.count, 2u) << "the CMOs are traced throughout, update " << k;
+    }
+    EXPECT_FALSE(sliced.relocating());
+    const std::vector<float> after = cubeMip0(*ctx_, sliced.cubes()), expected = cubeMip0(*ctx_, whole.cubes());
+    float changed = 0.0f, worst = 0.0f;
+    for (size_t i = 0; i < after.size(); ++i) {
+        changed = std::max(changed, std::abs(after[i] - before[i]));
+        worst = std::max(worst, std::abs(after[i] - expected[i]));
+    }
+    const gpu::ImageDesc& cd = sliced.cmoRadiance().desc();
+    float cmoWorst = 0.0f;
+    for (uint32_t layer = 0; layer < cd.layers; ++layer) {
+        auto a = gpu::readImageRGBA(*ctx_, sliced.cmoRadiance().get(), cd, VK_IMAGE_LAYOUT_GENERAL, 0, layer);
+        auto b = gpu::readImageRGBA(*ctx_, whole.cmoRadiance().get(), cd, VK_IMAGE_LAYOUT_GENERAL, 0, layer);
+        for (size_t i = 0; i < a.size(); ++i) cmoWorst = std::max(cmoWorst, std::abs(a[i] - b[i]));
+    }
+    std::cout << "[probes] recapture: probe mip 0 changed by up to " << changed << "; against the whole re-bake: probe "
+              << worst << ", CMO radiance " << cmoWorst << "\n";
+    EXPECT_GT(changed, 1e-3f) << "the probe still shows the gem";
+    EXPECT_LE(worst, 1e-4f);
+    EXPECT_LE(cmoWorst, 1e-4f);
 }
 
 // 6. The probes' debug views (probes.debug_view): on the gallery's main view nearly every pixel
