@@ -212,10 +212,7 @@ void Probes::Impl::captureCmoFace(size_t index, uint32_t face) {
     const auto& s = fg.addPass<Store>(
         "probes.cmo_store", PassType::Compute,
         [&](PassBuilder& pb, Store& d) {
-            d.g.depth = pb.read(cap.g.depth, TextureUsage::Sampled);
-            d.g.albedo = pb.read(cap.g.albedo, TextureUsage::Sampled);
-            d.g.normal = pb.read(cap.g.normal, TextureUsage::Sampled);
-            d.g.emissive = pb.read(cap.g.emissive, TextureUsage::Sampled);
+            d.g = render::readSurfaceAttachments(pb, cap.g);
             if (cap.g.shadowMask.valid()) d.g.shadowMask = pb.read(cap.g.shadowMask, TextureUsage::Sampled);
             d.face = pb.read(cap.face, TextureUsage::Sampled);
             d.radiance = pb.write(import(c.radiance, "probes.cmo.radiance"), TextureUsage::StorageWrite, target);

@@ -1,15 +1,14 @@
 // speculum-capture: headless renders of a scene to EXR/PNG AOVs plus timings.json.
-// Contract: docs/design.md section 6 (command-line contracts). Exit 0 done, 2 bad arguments, 3 bad scene or settings,
-// 4 no usable Vulkan device.
-#include "speculum/app/output.hpp"
-
-#include "speculum/chain.hpp"
+// Contract: docs/design.md section 6 (command-line contracts). Exit 0 done, 2 bad arguments,
+// 3 bad scene or settings, 4 no usable Vulkan device.
 #include "speculum/app/camera_flags.hpp"
+#include "speculum/app/camera_options.hpp"
 #include "speculum/app/device_budget.hpp"
 #include "speculum/app/engine_settings.hpp"
 #include "speculum/app/frame_runner.hpp"
-#include "speculum/app/camera_options.hpp"
+#include "speculum/app/output.hpp"
 #include "speculum/app/tool_main.hpp"
+#include "speculum/chain.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/resources.hpp"
 #include "speculum/render/renderer.hpp"

@@ -95,7 +95,7 @@ struct GBuffer {
 };
 
 // A pass's read of the four surface attachments (depth, albedo, normal, emissive) as sampled
-// textures: what shading a G-buffer pixel needs (render.lighting, probes.capture_bounce). The
+// textures: what shading a G-buffer pixel needs (render.lighting, probes.capture_bounce, probes.cmo_store). The
 // motion and the shadow mask are left to the passes that use them.
 inline GBuffer readSurfaceAttachments(PassBuilder& b, const GBuffer& g) {
     GBuffer r;
