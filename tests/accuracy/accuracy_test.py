@@ -105,11 +105,27 @@ def check(scores, limits, label):
         problems.append(f"MAE {scores['mae']:.5f} > {limits['mae_max']}")
     if "gross_max" in limits and scores["gross_share"] > limits["gross_max"]:
         problems.append(f"gross share {scores['gross_share']:.5f} > {limits['gross_max']}")
+    if "mirror_psnr_min" in limits and (scores.get("mirror_psnr_db") is None
+                                        or scores["mirror_psnr_db"] < limits["mirror_psnr_min"]):
+        problems.append(f"mirror-band PSNR {scores.get('mirror_psnr_db')} dB < {limits['mirror_psnr_min']}")
     print(f"{label}: PSNR {scores['psnr_db']:.2f} dB, MAE {scores['mae']:.5f}, gross {scores['gross_share']:.5f}, "
           f"{scores['pixels']} reflective pixels; limits {limits}")
+    if scores.get("converged_reference"):
+        print(f"{label}: mirror band {band(scores, 'mirror')}, rough band {band(scores, 'rough')}; "
+              f"{scores.get('unconverged_pixels', 0)} pixels left out (reference unconverged); the reference's two "
+              f"seeds agree at {fmt_db(scores.get('reference_agreement_db'))} (mirror band), "
+              f"{fmt_db(scores.get('reference_agreement_rough_db'))} (rough band)")
     for p in problems:
         print(f"FAIL {label}: {p}")
     return not problems
+
+
+def fmt_db(v):
+    return "-" if v is None else f"{v:.2f} dB"
+
+
+def band(scores, name):
+    return f"{fmt_db(scores.get(name + '_psnr_db'))} on {scores.get(name + '_pixels', 0)} px"
 
 
 def view_of(key):
@@ -167,10 +183,15 @@ def main():
                 table[key][method] = {"psnr_min": round(s["psnr_db"] - margin["psnr_db"], 2),
                                       "mae_max": round(s["mae"] * margin["mae_factor"], 4),
                                       "gross_max": round(s["gross_share"] + margin["gross_share"], 4)}
+                if s.get("mirror_psnr_db") is not None:
+                    table[key][method]["mirror_psnr_min"] = round(s["mirror_psnr_db"] - margin["psnr_db"], 2)
                 print(f"{key} {method}: PSNR {s['psnr_db']:.3f} MAE {s['mae']:.5f} gross {s['gross_share']:.5f} "
                       f"reflection {s['reflection_ms']:.2f} ms", file=sys.stderr)
                 table[key][method]["_measured"] = {"psnr_db": round(s["psnr_db"], 3), "mae": round(s["mae"], 5),
                                                    "gross_share": round(s["gross_share"], 5)}
+                for k in ("mirror_psnr_db", "rough_psnr_db", "reference_agreement_db", "reference_agreement_rough_db"):
+                    if s.get(k) is not None:
+                        table[key][method]["_measured"][k] = round(s[k], 2)
             if rule and rule["with"] in table[key] and rule["without"] in table[key]:
                 gains[key] = round(table[key][rule["with"]]["_measured"]["psnr_db"]
                                    - table[key][rule["without"]]["_measured"]["psnr_db"], 3)

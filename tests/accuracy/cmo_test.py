@@ -13,6 +13,9 @@ highlight  mirror_hall.highlight_a and _b: the ball behind the camera, seen only
 curved     cornell_mirrors close views of the curved reflectors: with CMOs (the default chain)
            at least psnr_min on pixels below max_roughness, and at least min_gain_db over the
            chain without CMOs.
+never_hurts  closed_room's views with one CMO added at each of never_hurts.positions: the
+           mirror band against the converged reference loses at most max_loss_db to the room
+           without it (issue 24: a CMO never makes a view worse).
 """
 import json
 import subprocess
@@ -32,6 +35,8 @@ def band_scores(tools, test, ref_dir, exposure, rough, max_roughness):
     cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test), "--scale", str(exposure),
            "--band-image", str(rough), "--bands", f"0,{max_roughness:g}"]
+    if (ref_dir / "stderror.0000.exr").is_file():  # a converged reference: its unconverged pixels are not scored
+        cmd += ["--ref-error", str(ref_dir / "stderror.0000.exr")]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
@@ -140,9 +145,47 @@ def curved(tools, rule, out, cache):
     return ok
 
 
+def with_cmos(scene, positions, out):
+    """The scene with one CMO node at each position (the placement tool's own glTF edit)."""
+    sys.path.insert(0, str(bench.SOURCE / "modules" / "probes" / "tools"))
+    from placement.edit import dump, edited_document, write_atomic
+    src = bench.SOURCE / "assets" / "scenes" / f"{scene}.gltf"
+    doc = json.loads(src.read_text())
+    cmos = [{"pos": p, "res": 128, "order": i, "radius": 1.0} for i, p in enumerate(positions)]
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"{scene}.cmo.gltf"
+    write_atomic(path, dump(edited_document(doc, cmos, src.parent, out)))
+    return path
+
+
+def never_hurts(tools, rule, out, cache):
+    """A CMO added anywhere in the closed room (above the chrome sphere standing on the glossy
+    floor, at head height in the middle, low in a corner) never lowers a view's mirror-band PSNR
+    against the converged reference by more than max_loss_db. The CMO node changes nothing the
+    reference sees, so the room's own reference is the truth for every edited scene."""
+    ok = True
+    scene = rule["scene"]
+    for cam in rule["views"]:
+        ref_dir, exposure = reference(tools, {"scene": scene, "camera": cam}, rule["size"], rule["reference"], cache)
+        view = {"scene": scene, "camera": cam}
+        image, _ = run(tools, view, rule["size"], [], out, f"never_hurts.{cam}.none")
+        base = bench.score(tools, image, ref_dir, "reflection", exposure, out / f"never_hurts.{cam}.none.png")
+        for label, pos in rule["positions"].items():
+            edited = {"scene": scene, "camera": cam, "file": str(with_cmos(scene, [pos], out / label))}
+            image, _ = run(tools, edited, rule["size"], [], out, f"never_hurts.{cam}.{label}")
+            got = bench.score(tools, image, ref_dir, "reflection", exposure, out / f"never_hurts.{cam}.{label}.png")
+            loss = base["mirror_psnr_db"] - got["mirror_psnr_db"]
+            good = loss <= rule["max_loss_db"]
+            print(f"never_hurts {cam} CMO {label} at {pos}: mirror band {got['mirror_psnr_db']:.2f} dB, without "
+                  f"{base['mirror_psnr_db']:.2f} dB ({-loss:+.2f} dB; at most {rule['max_loss_db']} dB lost)"
+                  f"{'' if good else '  FAIL'}")
+            ok &= good
+    return ok
+
+
 def main():
     p = tool_parser()
-    p.add_argument("--check", choices=("nested", "highlight", "curved"), required=True)
+    p.add_argument("--check", choices=("nested", "highlight", "curved", "never_hurts"), required=True)
     p.add_argument("--cache", required=True)
     p.add_argument("--out", required=True)
     a = p.parse_args()
@@ -152,7 +195,8 @@ def main():
     rule = dict(rules[a.check])
     for k in ("size", "reference"):
         rule.setdefault(k, rules[k])
-    ok = {"nested": nested, "highlight": highlight, "curved": curved}[a.check](a, rule, out, Path(a.cache))
+    ok = {"nested": nested, "highlight": highlight, "curved": curved, "never_hurts": never_hurts}[a.check](
+        a, rule, out, Path(a.cache))
     sys.exit(0 if ok else 1)
 
 

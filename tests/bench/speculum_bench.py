@@ -28,6 +28,9 @@ import time
 from pathlib import Path
 
 SOURCE = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(SOURCE / "tests" / "reference"))
+import store  # noqa: E402  (the converged references in assets/references)
+from store import file_hash, scene_inputs  # noqa: E402
 
 
 def fail(message, code=2):
@@ -71,36 +74,6 @@ def view_name(view):
     return f"{view['scene']}.{view['camera'] if 'camera' in view else Path(view['path']).stem + '_path'}"
 
 
-def scene_inputs(gltf):
-    """The scene file and every file it names (buffers, images, the environment)."""
-    files = [gltf]
-    try:
-        doc = json.loads(gltf.read_text()) if gltf.is_file() else {}
-    except (OSError, ValueError, RecursionError):
-        return files  # speculum-capture and speculum-reference report what is wrong with it
-    try:
-        for key in ("buffers", "images"):
-            for item in doc.get(key, []):
-                uri = item.get("uri", "")
-                if uri and not uri.startswith("data:"):
-                    files.append(gltf.parent / uri)
-        for scene in doc.get("scenes", []):
-            env = scene.get("extras", {}).get("environment")
-            if isinstance(env, str):
-                files.append(gltf.parent / env)
-    except (AttributeError, TypeError):
-        pass  # a malformed document: the tools name the problem
-    return files
-
-
-def file_hash(path, cache={}):
-    if path not in cache:
-        # Only regular files are read (/dev/zero would never end); the tools report the others.
-        p = Path(path)
-        cache[path] = hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else "not-a-file"
-    return cache[path]
-
-
 def reference_key(view, size, settings, reference_binary):
     """Everything that changes a reference image: the scene's files, camera, size, spp,
     bounces, seed and the renderer itself."""
@@ -118,7 +91,25 @@ def run(cmd, log):
         return subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode
 
 
+# The band edge of the scores (reference::kRoughBand): mirror pixels below it, rough above.
+ROUGH_BAND = 0.3
+
+
 def render_reference(tools, view, size, settings, cache):
+    """The reference folder for a view and whether it was there already. settings {"converged":
+    true, "bounces": N}: the fresh entry of the converged store (assets/references), or the
+    bench stops with the command that regenerates it; with a "fallback" (fixed-rate settings)
+    a view the store lacks is rendered with those instead and its rows say so."""
+    if settings.get("converged"):
+        folder, why = (store.lookup(view["scene"], view["camera"], size, settings["bounces"])
+                       if "camera" in view else (None, "camera paths have no converged reference"))
+        if folder is not None:
+            return folder, True
+        if settings.get("render_missing") and "camera" in view:
+            return render_converged(tools, view, size, settings["bounces"], cache)
+        if "fallback" not in settings:
+            fail(f"{view_name(view)} {size}: {why}", 1)
+        settings = settings["fallback"]
     key = reference_key(view, size, settings, tools.reference)
     out = cache / key
     if (out / "reference.json").exists():
@@ -134,6 +125,26 @@ def render_reference(tools, view, size, settings, cache):
     try:
         tmp.rename(out)
     except OSError:  # another process finished the same key first: its images are identical
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out, False
+
+
+def render_converged(tools, view, size, bounces, cache):
+    """A view the store does not hold (the placement tool's edited scenes), rendered with the
+    store's converged settings into the cache: minutes a view, with the reference's progress."""
+    settings = store.manifest()["settings"]
+    key = reference_key(view, size, {"converged": settings, "bounces": bounces}, tools.reference)
+    out = cache / key
+    if (out / "reference.json").exists():
+        return out, True
+    tmp = cache / f"{key}.tmp{os.getpid()}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    print(f"speculum-bench: converged reference of {view_name(view)} at {size} (minutes)", flush=True)
+    store.render(tools.reference, {"camera": view["camera"], "size": size, "bounces": bounces}, settings, tmp,
+                 scene=scene_file(view))
+    try:
+        tmp.rename(out)
+    except OSError:  # another process finished the same key first
         shutil.rmtree(tmp, ignore_errors=True)
     return out, False
 
@@ -170,14 +181,30 @@ def capture(tools, view, size, method_sets, aov, suite, out):
 
 
 def score(tools, test, ref_dir, aov, exposure, heatmap):
+    """PSNR, MAE and gross share on the reflective pixels; against a converged reference also per
+    band (mirror_psnr_db, rough_psnr_db), without the pixels it left unconverged, and with the
+    reference's own seed agreement beside (reference_agreement_db: mirror band)."""
     cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / f"{aov}.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--scale", str(exposure), "--heatmap", str(heatmap)]
     if aov == "reflection":
         cmd += ["--test-mask", str(test)]
+    converged = (ref_dir / "stderror.0000.exr").is_file()
+    if converged:
+        cmd += ["--ref-error", str(ref_dir / "stderror.0000.exr"),
+                "--band-image", str(ref_dir / "roughness.0000.exr"), "--bands", f"0,{ROUGH_BAND},1000"]
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
         fail(f"speculum-metrics failed: {result.stderr.strip()}", 1)
-    return json.loads(result.stdout)
+    scores = json.loads(result.stdout)
+    scores["converged_reference"] = converged
+    if converged:
+        mirror, rough = scores.pop("bands")
+        scores.update({"mirror_psnr_db": mirror["psnr_db"], "mirror_pixels": mirror["pixels"],
+                       "rough_psnr_db": rough["psnr_db"], "rough_pixels": rough["pixels"]})
+        agree = json.loads((ref_dir / "reference.json").read_text())["frames"][0].get("seed_agreement", {})
+        scores["reference_agreement_db"] = (agree.get("mirror") or {}).get("psnr_db")
+        scores["reference_agreement_rough_db"] = (agree.get("rough") or {}).get("psnr_db")
+    return scores
 
 
 def flicker(tools, run_dir, ref_dir, aov, frames, exposure):
@@ -283,6 +310,9 @@ def bench(args, tools):
             rows.append({"scene": view["scene"], "camera": view["camera"], "size": size, "method": method,
                          "aov": aov, "reflection_ms": refl_ms, "frame_ms": frame_ms, "psnr_db": m["psnr_db"],
                          "mae": m["mae"], "gross_share": m["gross_share"], "pixels": m["pixels"],
+                         "mirror_psnr_db": m.get("mirror_psnr_db"), "rough_psnr_db": m.get("rough_psnr_db"),
+                         "reference": "converged" if m["converged_reference"] else f"{ref_info['spp']} spp",
+                         "reference_agreement_db": m.get("reference_agreement_db"),
                          "reference_seconds": ref_info["frames"][0]["seconds"], "reference_cached": cached,
                          "device": device})
     paths = stability(tools, suite, methods, aov, out, cache, progress_step)
@@ -426,11 +456,17 @@ def summary(out, rows, configs, paths, seconds):
         for p in paths:
             lines.append(f"| {p['scene']} | {p['path']} | {p['size']} | {p['method']} | {p['frames']} | "
                          f"{p['excess_flicker']:.5f} | {fmt(p['reflection_ms'])} |")
-    lines += ["", "## Every run", "", "| scene | camera | size | method | reflection ms | PSNR dB | MAE | gross share |",
-              "|---|---|---|---|---|---|---|---|"]
+    lines += ["", "## Every run", "",
+              "Mirror band: reflection roughness below 0.3; rough band: above. reference: `converged` (assets/references; "
+              "its two seeds' agreement in the mirror band beside) or the fixed rate it was rendered at.", "",
+              "| scene | camera | size | method | reflection ms | PSNR dB | mirror band dB | rough band dB | MAE | "
+              "gross share | reference | reference seeds agree dB |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['scene']} | {r['camera']} | {r['size']} | {r['method']} | {fmt(r['reflection_ms'])} | "
-                     f"{fmt(r['psnr_db'])} | {fmt(r['mae'], 4)} | {fmt(r['gross_share'], 4)} |")
+                     f"{fmt(r['psnr_db'])} | {fmt(r.get('mirror_psnr_db'))} | {fmt(r.get('rough_psnr_db'))} | "
+                     f"{fmt(r['mae'], 4)} | {fmt(r['gross_share'], 4)} | {r.get('reference', '')} | "
+                     f"{fmt(r.get('reference_agreement_db'))} |")
     (out / "summary.md").write_text("\n".join(lines) + "\n")
 
 

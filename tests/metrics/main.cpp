@@ -3,6 +3,7 @@
 //   speculum-metrics compare --test T.exr --ref R.exr [--ref-mask REFLECTIVE.exr]
 //                            [--test-mask REFLECTION.exr] [--scale S] [--heatmap OUT.png]
 //                            [--band-image ROUGHNESS.exr --bands 0,0.1,0.3,1.01]
+//                            [--ref-error STDERROR.exr]... [--max-ref-error E]
 //   speculum-metrics flicker --test DIR --ref DIR --aov NAME --frames N [--ref-mask-aov NAME]
 //                            [--test-mask-aov NAME] [--scale S]
 // Exit 0 done, 2 bad arguments, 3 an image cannot be read or sizes differ.
@@ -27,7 +28,8 @@ namespace {
 struct Options {
     std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov, bandImage;
     std::vector<float> bands;
-    float scale = 1.0f;
+    std::vector<std::string> refErrors;
+    float scale = 1.0f, maxRefError = metrics::kMaxReferenceError;
     int frames = 0;
 };
 
@@ -48,10 +50,14 @@ nlohmann::json toJson(const metrics::Scores& s) {
 int compare(const Options& o) {
     metrics::Image test = metrics::load(o.test), ref = metrics::load(o.ref);
     std::vector<uint8_t> mask = maskFor(ref, o.refMask, o.testMask);
+    // Pixels where a reference is not converged are not scored, and counted (converged references).
+    size_t unconverged = 0;
+    for (const std::string& e : o.refErrors) mask = metrics::convergedMask(mask, metrics::load(e), o.maxRefError, unconverged);
     metrics::Scores s = metrics::compare(test, ref, mask, o.scale);
     if (!o.heatmap.empty())
         metrics::writePng(o.heatmap, ref.width, ref.height, metrics::heatmap(test, ref, mask, o.scale));
     nlohmann::json j = toJson(s);
+    if (!o.refErrors.empty()) j["unconverged_pixels"] = unconverged;
     if (!o.bandImage.empty()) {
         // Per band [edge i, edge i+1) of the band image (the roughness AOV): which method is the
         // more accurate per roughness (issue 13: cone against stochastic glossy).
@@ -107,6 +113,9 @@ int main(int argc, char** argv) {
     cmp->add_option("--heatmap", o.heatmap, "write an error heatmap PNG");
     cmp->add_option("--band-image", o.bandImage, "image whose first channel splits the scores into bands (roughness AOV)");
     cmp->add_option("--bands", o.bands, "band edges, increasing: [edge i, edge i+1)")->delimiter(',');
+    cmp->add_option("--ref-error", o.refErrors,
+                    "reference 'stderror' AOV (repeatable): pixels above --max-ref-error are not scored");
+    cmp->add_option("--max-ref-error", o.maxRefError, "standard error in display units above which a pixel is left out (default 0.01)");
     CLI::App* fl = cli.add_subcommand("flicker", "excess flicker of a frame sequence against its reference");
     fl->add_option("--test", o.test, "engine output folder")->required();
     fl->add_option("--ref", o.ref, "reference output folder")->required();

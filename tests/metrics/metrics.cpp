@@ -69,6 +69,19 @@ std::vector<uint8_t> bandMask(const std::vector<uint8_t>& mask, const Image& ban
     return out;
 }
 
+std::vector<uint8_t> convergedMask(const std::vector<uint8_t>& mask, const Image& stderror, float maxError,
+                                   size_t& removed) {
+    if (mask.size() != stderror.pixels.size())
+        throw Error(ExitCode::BadInput, "converged: the reference error image's size differs");
+    std::vector<uint8_t> out(mask);
+    for (size_t i = 0; i < mask.size(); ++i)
+        if (mask[i] && stderror.pixels[i].x > maxError) {
+            out[i] = 0;
+            ++removed;
+        }
+    return out;
+}
+
 Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale) {
     checkSizes(test, reference, "compare");
     if (mask.size() != test.pixels.size()) throw Error(ExitCode::BadInput, "compare: mask size differs from the images");

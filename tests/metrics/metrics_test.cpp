@@ -94,3 +94,14 @@ TEST(Metrics, BandMaskKeepsMaskedPixelsWithinTheBand) {
     EXPECT_EQ(metrics::bandMask(mask, band, 0.2f, 1.0f), (std::vector<uint8_t>{0, 0, 0, 1}));
     EXPECT_THROW(metrics::bandMask({1, 1}, band, 0.0f, 1.0f), Error);
 }
+
+// A converged reference's unconverged pixels leave the mask and are counted; an unknown error
+// (-1, one batch) and pixels outside the mask stay as they were.
+TEST(Metrics, UnconvergedReferencePixelsAreLeftOut) {
+    Image error{5, 1, {glm::vec3(0.0f), glm::vec3(0.02f), glm::vec3(-1.0f), glm::vec3(0.01f), glm::vec3(0.5f)}};
+    size_t removed = 0;
+    std::vector<uint8_t> m = metrics::convergedMask({1, 1, 1, 1, 0}, error, metrics::kMaxReferenceError, removed);
+    EXPECT_EQ(m, (std::vector<uint8_t>{1, 0, 1, 1, 0}));
+    EXPECT_EQ(removed, 1u);
+    EXPECT_THROW(metrics::convergedMask({1, 1}, error, 0.01f, removed), Error);
+}

@@ -3,6 +3,7 @@
 // (NAME.FFFF.exr, color.FFFF.png) plus reference.json (time and rays per frame).
 // Exit 0 done, 2 bad arguments, 3 bad scene or settings file.
 #include "reference.hpp"
+#include "metrics.hpp"
 
 #include "speculum/app/camera_flags.hpp"
 #include "speculum/app/engine_settings.hpp"
@@ -24,14 +25,16 @@ using namespace speculum;
 
 namespace {
 
-const std::vector<std::string> kAovs = {"linear", "color", "reflection", "depth", "normal", "reflective"};
+const std::vector<std::string> kAovs = {"linear", "color", "reflection", "depth", "normal", "reflective", "roughness", "samples", "stderror"};
 
 struct Options {
     app::CameraFlags view;  // --scene, --camera, --eye, --target, --up, --fov, --path
     std::string size = "960x540", settingsFile, out;
     std::string aov = "linear,color,reflection,reflective";
-    uint32_t spp = 64, bounces = 2, threads = 0;
+    uint32_t spp = 64, bounces = 2, threads = 0, maxSpp = 0, roughMaxSpp = 0, minBatches = 4;
+    float targetError = 0.0f;
     uint64_t seed = 1;
+    uint32_t seeds = 1;
     std::vector<std::string> sets;
     bool settingsGiven = false;
 };
@@ -68,10 +71,10 @@ std::pair<uint32_t, uint32_t> parseSize(const std::string& s) {
 
 std::vector<std::string> parseAovs(const std::string& list) {
     auto aovs = app::splitList(list);
-    if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, reflection, depth, normal, reflective");
+    if (aovs.empty()) throw argumentError("--aov needs at least one of: linear, color, reflection, depth, normal, reflective, roughness, samples, stderror");
     for (const std::string& a : aovs)
         if (std::find(kAovs.begin(), kAovs.end(), a) == kAovs.end())
-            throw argumentError("unknown AOV '" + a + "' (known: linear, color, reflection, depth, normal, reflective)");
+            throw argumentError("unknown AOV '" + a + "' (known: linear, color, reflection, depth, normal, reflective, roughness, samples, stderror)");
     return aovs;
 }
 
@@ -83,10 +86,13 @@ app::AovImage toAov(const reference::Frame& f, const std::string& name, float ex
         else if (name == "color") v = reference::tonemap(f.linear[i], exposure);
         else if (name == "reflection") v = f.reflection[i];
         else if (name == "normal") v = f.normal[i];
+        else if (name == "roughness") v = glm::vec3(f.roughness[i]);
+        else if (name == "samples") v = glm::vec3(f.samples[i]);
+        else if (name == "stderror") v = glm::vec3(f.stderror[i]);
         else v = glm::vec3(name == "depth" ? f.depth[i] : f.reflective[i]);
         for (int c = 0; c < 3; ++c) img.rgba[i * 4 + size_t(c)] = v[c];
     }
-    if (name == "depth" || name == "reflective") img.channels = 1;
+    if (name == "depth" || name == "reflective" || name == "roughness" || name == "samples" || name == "stderror") img.channels = 1;
     return img;
 }
 
@@ -104,10 +110,90 @@ void progressBar(size_t frame, size_t frames, uint32_t done, uint32_t total,
     if (done == total) std::fprintf(stderr, "\n");
 }
 
+// Lobe samples over the reflective pixels: what adaptive sampling spent, and how many pixels
+// ended above the target error (at their cap).
+nlohmann::json sampleStats(const reference::Frame& f, float targetError) {
+    double sum = 0.0, most = 0.0;
+    size_t n = 0, above = 0;
+    for (size_t i = 0; i < f.samples.size(); ++i) {
+        if (f.reflective[i] <= 0.5f) continue;
+        sum += f.samples[i];
+        most = std::max(most, double(f.samples[i]));
+        above += targetError > 0.0f && f.stderror[i] > targetError;
+        ++n;
+    }
+    return {{"mean", n ? sum / double(n) : 0.0}, {"max", most}, {"pixels", n}, {"pixels_above_target", above}};
+}
+
+// The mean of independent seeds: reflection and linear averaged, samples and rays summed, the
+// standard error of the mean (-1 stays unknown).
+reference::Frame meanOfSeeds(const std::vector<reference::Frame>& seeds) {
+    reference::Frame f = seeds.front();
+    if (seeds.size() == 1) return f;
+    const float n = float(seeds.size());
+    for (size_t i = 0; i < f.linear.size(); ++i) {
+        glm::vec3 lin(0.0f), refl(0.0f);
+        float samples = 0.0f, var = 0.0f;
+        bool known = true;
+        for (const reference::Frame& s : seeds) {
+            lin += s.linear[i];
+            refl += s.reflection[i];
+            samples += s.samples[i];
+            known = known && s.stderror[i] >= 0.0f;
+            var += s.stderror[i] * s.stderror[i];
+        }
+        f.linear[i] = lin / n;
+        f.reflection[i] = refl / n;
+        f.samples[i] = samples;
+        f.stderror[i] = known ? std::sqrt(var) / n : -1.0f;
+    }
+    f.rays = 0;
+    f.seconds = 0.0;
+    for (const reference::Frame& s : seeds) {
+        f.rays += s.rays;
+        f.seconds += s.seconds;
+    }
+    return f;
+}
+
+metrics::Image metricsImage(const reference::Frame& f, const std::vector<float>& channel) {
+    metrics::Image img{f.width, f.height, {}};
+    img.pixels.reserve(channel.size());
+    for (float v : channel) img.pixels.push_back(glm::vec3(v));
+    return img;
+}
+
+// How far two seeds agree (docs: tests/reference/README.md, "converged references"): PSNR of one
+// against the other on the reflective pixels where both are converged (standard error at most
+// metrics::kMaxReferenceError), per band (mirror: roughness below reference::kRoughBand), and
+// how many reflective pixels were left out as unconverged. The mean that is written is closer to
+// the truth than either seed: its own error is about 3 dB below this figure.
+nlohmann::json seedAgreement(const reference::Frame& a, const reference::Frame& b, float exposure) {
+    metrics::Image ia{a.width, a.height, a.reflection}, ib{b.width, b.height, b.reflection};
+    metrics::Image reflective = metricsImage(a, a.reflective), rough = metricsImage(a, a.roughness);
+    std::vector<uint8_t> mask = metrics::reflectiveMask(a.width, a.height, &reflective, nullptr);
+    size_t unconverged = 0;
+    mask = metrics::convergedMask(mask, metricsImage(a, a.stderror), metrics::kMaxReferenceError, unconverged);
+    mask = metrics::convergedMask(mask, metricsImage(b, b.stderror), metrics::kMaxReferenceError, unconverged);
+    auto band = [&](float lo, float hi) {
+        metrics::Scores s = metrics::compare(ia, ib, metrics::bandMask(mask, rough, lo, hi), exposure);
+        return nlohmann::json{{"pixels", s.pixels}, {"psnr_db", s.psnr ? nlohmann::json(*s.psnr) : nlohmann::json()}};
+    };
+    return {{"mirror", band(0.0f, reference::kRoughBand)}, {"rough", band(reference::kRoughBand, 1e9f)},
+            {"unconverged_pixels", unconverged}, {"max_reference_error", metrics::kMaxReferenceError}};
+}
+
 int run(const Options& o) {
     if (o.out.empty()) throw argumentError("--out DIR is required");
     if (o.view.scenePath.empty()) throw argumentError("--scene FILE is required");
     if (o.spp < 1 || o.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
+    if (o.maxSpp != 0 && (o.maxSpp < o.spp || o.maxSpp > 1u << 24))
+        throw argumentError("--max-spp must be 0 (no adaptive sampling) or in --spp..16777216");
+    if (o.roughMaxSpp != 0 && (o.roughMaxSpp < o.spp || o.roughMaxSpp > 1u << 24))
+        throw argumentError("--rough-max-spp must be 0 (--max-spp) or in --spp..16777216");
+    if (!(o.targetError >= 0.0f && o.targetError < 1.0f)) throw argumentError("--target-error must be in [0, 1)");
+    if (o.minBatches < 2 || o.minBatches > 4096) throw argumentError("--min-batches must be in 2..4096");
+    if (o.seeds < 1 || o.seeds > 16) throw argumentError("--seeds must be in 1..16");
     if (o.bounces < 1 || o.bounces > 64) throw argumentError("--bounces must be in 1..64");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = parseSize(o.size);
@@ -124,27 +210,48 @@ int run(const Options& o) {
         app::selectCameras(o.view, scene, w, h, 1);
     app::prepareOutputDir(o.out);  // before the BVH build and the sky prefilter
     checkReferenceBudget(scene);
-    reference::Options ropt{o.spp, o.bounces, o.seed, o.threads, ro.exposure, {}};
+    reference::Options ropt;
+    ropt.spp = o.spp;
+    ropt.bounces = o.bounces;
+    ropt.seed = o.seed;
+    ropt.threads = o.threads;
+    ropt.exposure = ro.exposure;
+    ropt.targetError = o.targetError;
+    ropt.minBatches = o.minBatches;
+    ropt.maxSpp = o.maxSpp;
+    ropt.roughMaxSpp = o.roughMaxSpp;
     size_t frameIndex = 0;
     auto frameStart = std::chrono::steady_clock::now();
     ropt.progress = [&](uint32_t done, uint32_t total) { progressBar(frameIndex, views.size(), done, total, frameStart); };
-    reference::Renderer renderer(scene, ropt);
+    // One renderer a seed (seed, seed + 1, ...): independent estimates of the same image.
+    std::vector<std::unique_ptr<reference::Renderer>> renderers;
+    for (uint32_t k = 0; k < o.seeds; ++k) {
+        ropt.seed = o.seed + k;
+        renderers.push_back(std::make_unique<reference::Renderer>(scene, ropt));
+    }
+    const reference::Renderer& renderer = *renderers.front();
     double setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
 
     nlohmann::json frames = nlohmann::json::array();
     for (frameIndex = 0; frameIndex < views.size(); ++frameIndex) {
         frameStart = std::chrono::steady_clock::now();
-        reference::Frame f = renderer.render(views[frameIndex]);
+        std::vector<reference::Frame> perSeed;
+        for (const auto& r : renderers) perSeed.push_back(r->render(views[frameIndex]));
+        reference::Frame f = meanOfSeeds(perSeed);
         for (const std::string& a : aovs) app::writeAov(o.out, a, int(frameIndex), toAov(f, a, renderer.exposure()));
         double raysPerSecond = f.rays / std::max(f.seconds, 1e-9);
-        frames.push_back({{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
-                          {"rays_per_second", raysPerSecond}});
+        nlohmann::json entry = {{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
+                                {"rays_per_second", raysPerSecond}, {"samples", sampleStats(f, o.targetError)}};
+        if (perSeed.size() >= 2) entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure());
+        frames.push_back(entry);
         std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
                     raysPerSecond / 1e6);
     }
     nlohmann::json report = {{"scene", o.view.scenePath},         {"width", w},
                              {"height", h},              {"spp", o.spp},
-                             {"bounces", o.bounces},     {"seed", o.seed},
+                             {"bounces", o.bounces},     {"seed", o.seed}, {"seeds", o.seeds},
+                             {"target_error", o.targetError}, {"min_batches", o.minBatches},
+                             {"max_spp", o.maxSpp}, {"rough_max_spp", o.roughMaxSpp},
                              {"threads", o.threads},     {"exposure", renderer.exposure()},
                              {"setup_seconds", setupSeconds}, {"frames", frames}};
     app::writeText(fs::path(o.out) / "reference.json", report.dump(2));
@@ -158,7 +265,15 @@ int main(int argc, char** argv) {
     Options o;
     CLI::App cli{"speculum-reference: ground-truth Embree renders of a glTF scene, as speculum-capture frames it"};
     app::addCameraOptions(cli, o.view, o.size);
-    cli.add_option("--spp", o.spp, "glossy reflection samples per pixel (default 64)");
+    cli.add_option("--spp", o.spp, "glossy reflection samples per pixel, or per batch with --target-error (default 64)");
+    cli.add_option("--target-error", o.targetError,
+                   "adaptive sampling: batches of --spp until the standard error in display units is at most this (default 0: off)");
+    cli.add_option("--max-spp", o.maxSpp, "adaptive sampling: at most this many samples a pixel (default 0: --spp)");
+    cli.add_option("--rough-max-spp", o.roughMaxSpp,
+                   "adaptive sampling: the cap for reflection roughness >= 0.3, the rough band (default 0: --max-spp)");
+    cli.add_option("--seeds", o.seeds,
+                   "render seeds --seed..--seed+N-1 and write their mean; with 2 or more, reference.json reports their agreement (default 1)");
+    cli.add_option("--min-batches", o.minBatches, "adaptive sampling: at least this many batches (default 4)");
     cli.add_option("--bounces", o.bounces, "reflective surfaces traced this deep (default 2)");
     cli.add_option("--seed", o.seed, "random seed (same seed, same image; default 1)");
     cli.add_option("--threads", o.threads, "render threads (default: all hardware threads)");

@@ -18,12 +18,32 @@
 
 namespace speculum::reference {
 
+// The estimator's version: bump it with any change that moves a reference image (sampling,
+// shading, the scene loader's output). The converged references in assets/references are keyed
+// by it (tests/reference/store.py reads this line), so a bump marks every one of them stale and
+// the reference.store_fresh test fails until they are rendered again.
+constexpr int kEstimatorVersion = 2;
+
+// The edge between the mirror band and the rough band of the scores (issue 24): reflection
+// roughness below it is a mirror or a narrow glossy lobe.
+constexpr float kRoughBand = 0.3f;
+
 struct Options {
     uint32_t spp = 64;     // reflection-lobe samples per pixel (mirrors need 1)
     uint32_t bounces = 2;  // reflective surfaces traced this deep; deeper ones use the split sum
     uint64_t seed = 1;
     uint32_t threads = 0;  // 0: every hardware thread
     float exposure = 1.0f;  // render.exposure; multiplies the scene's extras.exposure
+    // Adaptive sampling (README.md, "converged references"): a reflective pixel takes batches of
+    // `spp` stratified samples, each an independent estimate, until the standard error of their
+    // mean, in display units (times the exposure, clamped to [0, 1]), is at most `targetError`
+    // after at least `minBatches`, or it has `maxSpp` samples. targetError 0: one batch.
+    float targetError = 0.0f;
+    uint32_t minBatches = 4;
+    uint32_t maxSpp = 0;  // 0: spp (no adaptivity)
+    // The cap for pixels of the rough band (reflection roughness >= kRoughBand): their wide lobes
+    // converge slowest and the accuracy targets score the mirror band. 0: maxSpp.
+    uint32_t roughMaxSpp = 0;
     // Called with (rows done, rows) from the render threads' coordinator; may be empty.
     std::function<void(uint32_t, uint32_t)> progress;
 };
@@ -36,6 +56,11 @@ struct Frame {
     std::vector<float> depth;           // reversed-Z depth-buffer value (1 near plane, 0 sky)
     std::vector<glm::vec3> normal;      // world shading normal; 0 for sky
     std::vector<float> reflective;      // 1 where the visible surface is reflective
+    std::vector<float> roughness;       // the reflection's roughness on reflective pixels, else 0 (score bands)
+    std::vector<float> samples;         // lobe samples the reflection took (adaptive sampling); 0 elsewhere
+    // The standard error of the reflection in display units (the largest channel's, from the
+    // spread of its batches); -1 where it took one batch (unknown), 0 off reflective pixels.
+    std::vector<float> stderror;
     double seconds = 0.0;
     uint64_t rays = 0;  // every Embree query: primary, reflection and shadow rays
 };

@@ -82,7 +82,7 @@ def check_args(args):
     if not res or any(r < 32 or r > 4096 or r & (r - 1) for r in res):
         raise InputError(f"--resolutions {args.resolutions}: each must be a power of two in [32, 4096]", 2)
     args.resolutions_list = sorted(set(res))
-    for name, lo in (("max_cmos", 1), ("spp", 1), ("tries", 1), ("move_tries", 0), ("warmup", 0), ("frames", 1),
+    for name, lo in (("max_cmos", 1), ("spp", 0), ("tries", 1), ("move_tries", 0), ("warmup", 0), ("frames", 1),
                      ("bounces", 1), ("candidates", 1), ("grid", 4)):
         if getattr(args, name) < lo:
             raise InputError(f"--{name.replace('_', '-')} {getattr(args, name)}: must be at least {lo}", 2)
@@ -149,7 +149,9 @@ def main(argv=None):
     pl.add_argument("--resolutions", default="64,128,256",
                     help="cube face sizes to choose from, powers of two >= 32 (default 64,128,256); "
                          "CMOs are added at the largest and lowered while the budget holds")
-    pl.add_argument("--spp", type=int, default=16, help="reference samples per pixel (default 16)")
+    pl.add_argument("--spp", type=int, default=0,
+                    help="reference samples per pixel at a fixed rate (default 0: converged references, "
+                         "tests/reference/README.md; a fixed rate is for quick runs only)")
     pl.add_argument("--bounces", type=int, default=2, help="reference bounces (default 2, as the bench)")
     pl.add_argument("--warmup", type=int, default=3, help="speculum-capture warm-up frames (default 3)")
     pl.add_argument("--frames", type=int, default=2, help="speculum-capture counted frames (default 2)")

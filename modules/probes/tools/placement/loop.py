@@ -194,7 +194,7 @@ def write_outputs(args, src, doc, glb_bin, view_names, cands, search, meas, t_st
     report = {"scene": str(src), "out": str(out_path), "budget_db": args.budget_db,
               "budget": "mean PSNR over the views >= budget_db (reflection AOV, reflective pixels" +
                         (f" of roughness below {args.max_roughness:g})" if args.max_roughness is not None else ")"),
-              "views": view_names, "size": args.size, "spp": args.spp, "kind": args.kind, "met": met,
+              "views": view_names, "size": args.size, "spp": args.spp, "reference": f"{args.spp} spp" if args.spp else "converged", "kind": args.kind, "met": met,
               "baseline": {"mean_psnr_db": baseline["mean"], "per_view_psnr_db": baseline["per_view"],
                            "reflection_ms": baseline["ms"]},
               "final": {"count": len(current), "cmos": config_entry(current), "mean_psnr_db": cur["mean"],

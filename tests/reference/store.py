@@ -1,0 +1,208 @@
+#!/usr/bin/env python3
+"""The converged references kept in the repository (assets/references; README.md here,
+"converged references").
+
+    store.py check                                   which entries are fresh, stale or missing (exit 1 if any is not fresh)
+    store.py regenerate --reference BIN [--only NAME]... [--force]   render the stale ones, with progress
+
+An entry of assets/references/manifest.json is a view (scene, camera, size, bounces) rendered
+with the manifest's settings into NAME = SCENE.CAMERA.SIZE.bBOUNCES/. Its key hashes everything
+that changes the image: the scene's files, the camera, the size, the bounces, the settings and
+the estimator's version (kEstimatorVersion in reference.hpp; the binary itself is not hashed, it
+differs from one compiler to the next). reference.json in the entry records the key it was
+rendered for; an entry whose recorded key differs from today's is stale. The bench and the
+accuracy tests read the entries through lookup() and stop with this file's regenerate command
+when one is stale: a converged render takes minutes, never a test's side effect.
+"""
+import argparse
+import hashlib
+import json
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+SOURCE = Path(__file__).resolve().parents[2]
+STORE = SOURCE / "assets" / "references"
+MANIFEST = STORE / "manifest.json"
+AOVS = "reflection,reflective,roughness,stderror,samples"
+REGENERATE = "python3 tests/reference/store.py regenerate --reference build/tests/reference/speculum-reference"
+
+
+def scene_inputs(gltf):
+    """The scene file and every file it names (buffers, images, the environment)."""
+    files = [gltf]
+    try:
+        doc = json.loads(gltf.read_text()) if gltf.is_file() else {}
+    except (OSError, ValueError, RecursionError):
+        return files  # speculum-capture and speculum-reference report what is wrong with it
+    try:
+        for key in ("buffers", "images"):
+            for item in doc.get(key, []):
+                uri = item.get("uri", "")
+                if uri and not uri.startswith("data:"):
+                    files.append(gltf.parent / uri)
+        for scene in doc.get("scenes", []):
+            env = scene.get("extras", {}).get("environment")
+            if isinstance(env, str):
+                files.append(gltf.parent / env)
+    except (AttributeError, TypeError):
+        pass  # a malformed document: the tools name the problem
+    return files
+
+
+def file_hash(path, cache={}):
+    if path not in cache:
+        # Only regular files are read (/dev/zero would never end); the tools report the others.
+        p = Path(path)
+        cache[path] = hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else "not-a-file"
+    return cache[path]
+
+
+def estimator_version():
+    text = (SOURCE / "tests" / "reference" / "reference.hpp").read_text()
+    m = re.search(r"constexpr int kEstimatorVersion = (\d+);", text)
+    if not m:
+        raise SystemExit("store.py: tests/reference/reference.hpp has no kEstimatorVersion")
+    return int(m.group(1))
+
+
+def manifest():
+    return json.loads(MANIFEST.read_text())
+
+
+def entry_name(e):
+    return f"{e['scene']}.{e['camera']}.{e['size']}.b{e['bounces']}"
+
+
+_generated = {}
+
+
+def scene_file(e):
+    """assets/scenes/SCENE.gltf, or the scene its generator writes (once a process)."""
+    if "generator" not in e:
+        return SOURCE / "assets" / "scenes" / f"{e['scene']}.gltf"
+    if e["generator"] not in _generated:
+        out = Path(tempfile.mkdtemp(prefix="speculum-store-"))
+        subprocess.run([sys.executable, str(SOURCE / e["generator"]), str(out)], check=True,
+                       stdout=subprocess.DEVNULL)
+        _generated[e["generator"]] = out
+    return _generated[e["generator"]] / f"{e['scene']}.gltf"
+
+
+def key(e, settings):
+    h = hashlib.sha256()
+    for f in scene_inputs(scene_file(e)):
+        h.update(f.name.encode() + file_hash(f).encode())
+    h.update(json.dumps([e["camera"], e["size"], e["bounces"], settings, estimator_version()],
+                        sort_keys=True).encode())
+    return h.hexdigest()[:24]
+
+
+def status(e, settings):
+    """('fresh' | 'stale' | 'missing', folder)."""
+    folder = STORE / entry_name(e)
+    info = folder / "reference.json"
+    if not info.is_file():
+        return "missing", folder
+    recorded = json.loads(info.read_text()).get("store_key")
+    return ("fresh" if recorded == key(e, settings) else "stale"), folder
+
+
+def lookup(scene, camera, size, bounces):
+    """The folder of the fresh entry for this view, or None and why not."""
+    doc = manifest()
+    for e in doc["entries"]:
+        if (e["scene"], e["camera"], e["size"], e["bounces"]) == (scene, camera, size, bounces):
+            state, folder = status(e, doc["settings"])
+            if state == "fresh":
+                return folder, None
+            return None, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
+    return None, (f"no converged reference for {scene}.{camera} at {size} with {bounces} bounces: add it to "
+                  f"{MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
+
+
+def render(binary, e, settings, folder, scene=None):
+    """Renders entry e (or the same view of `scene`) with the store's settings into folder."""
+    s = settings
+    cmd = [binary, "--scene", str(scene or scene_file(e)), "--camera", e["camera"], "--size", e["size"],
+           "--bounces", str(e["bounces"]), "--spp", str(s["spp"]), "--target-error", str(s["target_error"]),
+           "--min-batches", str(s["min_batches"]), "--max-spp", str(s["max_spp"]),
+           "--rough-max-spp", str(s["rough_max_spp"]), "--seed", str(s["seed"]), "--seeds", str(s["seeds"]),
+           "--aov", AOVS, "--out", str(folder)]
+    # stderr passes through: the reference draws its progress bar there on a terminal.
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def regenerate(binary, only, force):
+    doc = manifest()
+    todo = [e for e in doc["entries"] if (not only or entry_name(e) in only)
+            and (force or status(e, doc["settings"])[0] != "fresh")]
+    unknown = set(only or []) - {entry_name(e) for e in doc["entries"]}
+    if unknown:
+        raise SystemExit(f"store.py: not in {MANIFEST.relative_to(SOURCE)}: {', '.join(sorted(unknown))}")
+    start = time.time()
+    for i, e in enumerate(todo):
+        name = entry_name(e)
+        print(f"[{i + 1}/{len(todo)}] {name}: rendering ({time.time() - start:.0f} s so far)", flush=True)
+        tmp = STORE / f".{name}.tmp"
+        shutil.rmtree(tmp, ignore_errors=True)
+        render(binary, e, doc["settings"], tmp)
+        info = json.loads((tmp / "reference.json").read_text())
+        info["store_key"] = key(e, doc["settings"])
+        info["scene"] = str(scene_file(e).relative_to(SOURCE)) if "generator" not in e else e["generator"]
+        (tmp / "reference.json").write_text(json.dumps(info, indent=2) + "\n")
+        final = STORE / name
+        shutil.rmtree(final, ignore_errors=True)
+        tmp.rename(final)
+        frame = info["frames"][0]
+        agree = frame.get("seed_agreement", {})
+        print(f"[{i + 1}/{len(todo)}] {name}: {frame['seconds']:.0f} s, {frame['samples']['mean']:.0f} samples a "
+              f"reflective pixel; seeds agree at {fmt(agree.get('mirror'))} (mirror band), "
+              f"{fmt(agree.get('rough'))} (rough band), {agree.get('unconverged_pixels', 0)} pixels unconverged",
+              flush=True)
+    print(f"store.py: {len(todo)} reference(s) rendered in {time.time() - start:.0f} s")
+
+
+def fmt(band):
+    if not band or band.get("psnr_db") is None:
+        return "-"
+    return f"{band['psnr_db']:.1f} dB on {band['pixels']} px"
+
+
+def check():
+    doc = manifest()
+    bad = 0
+    for e in doc["entries"]:
+        state, folder = status(e, doc["settings"])
+        line = f"{entry_name(e)}: {state}"
+        if state == "fresh":
+            agree = json.loads((folder / "reference.json").read_text())["frames"][0].get("seed_agreement", {})
+            line += f" (seeds agree at {fmt(agree.get('mirror'))} mirror, {fmt(agree.get('rough'))} rough)"
+        else:
+            bad += 1
+        print(line)
+    if bad:
+        print(f"FAIL: {bad} converged reference(s) not fresh; regenerate: {REGENERATE}")
+    return bad == 0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="command", required=True)
+    sub.add_parser("check")
+    r = sub.add_parser("regenerate")
+    r.add_argument("--reference", required=True, help="the speculum-reference binary")
+    r.add_argument("--only", action="append", help="an entry name (SCENE.CAMERA.SIZE.bBOUNCES); repeatable")
+    r.add_argument("--force", action="store_true", help="render even fresh entries")
+    a = ap.parse_args()
+    if a.command == "check":
+        sys.exit(0 if check() else 1)
+    regenerate(a.reference, a.only, a.force)
+
+
+if __name__ == "__main__":
+    main()
