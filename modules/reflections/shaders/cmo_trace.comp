@@ -133,21 +133,8 @@ void main() {
                 unresolved = unresolved || status == kCmoUnresolved;
             }
             if (found < 0) {
-                if (bounce == 0) {
-                    info.z = unresolved ? 2.0 : 0.0;
-                } else if (unresolved) {
-                    // A mirror's next ray passed behind a surface as every CMO sees it (the floor
-                    // under a sphere, seen from the sphere's lower half, reflects the sphere's
-                    // underside, which a CMO above cannot see). The mirror's captured radiance
-                    // here was what the mirror shows the CMO's centre: the far wall where the
-                    // sphere should be, worse than no CMO (issue 24). The whole ray goes down
-                    // the chain instead, unresolved, as if no CMO had been asked.
-                    result = vec4(0.0);
-                    info = vec4(0.0, 0.0, 2.0, 0.0);
-                } else {
-                    // It left every CMO's reach: the mirror's captured radiance stands in.
-                    result = vec4(fallback, result.a);
-                }
+                if (bounce == 0) info.z = unresolved ? 2.0 : 0.0;
+                else result = vec4(fallback, result.a);
                 break;
             }
             CmoRecord c = cmos[found];
