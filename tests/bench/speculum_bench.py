@@ -327,7 +327,10 @@ def configurations(rows):
     configs = []
     for (method, size), rs in groups.items():
         scored = [r["psnr_db"] for r in rs if r["psnr_db"] is not None]
+        # Only rows scored against a converged reference have bands (older results.json: none).
+        mirror = [r["mirror_psnr_db"] for r in rs if r.get("mirror_psnr_db") is not None]
         configs.append({"method": method, "size": size, "views": len(rs),
+                        "mirror_psnr_db": sum(mirror) / len(mirror) if mirror else None,
                         "reflection_ms": sum(r["reflection_ms"] for r in rs) / len(rs),
                         "frame_ms": sum(r["frame_ms"] for r in rs) / len(rs),
                         "psnr_db": sum(scored) / len(scored) if scored else None,
@@ -419,12 +422,12 @@ def summary(out, rows, configs, paths, seconds):
              f"heatmaps in `heatmaps/`. Accuracy is on reflective pixels, clamped linear after the scene's "
              f"exposure (tests/reference/README.md).", "",
              "## Configurations (mean over views)", "",
-             "| method | size | reflection ms | frame ms | PSNR dB | MAE | gross share | Pareto |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| method | size | reflection ms | frame ms | PSNR dB | mirror band dB (converged) | MAE | gross share | Pareto |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for c in configs:
         lines.append(f"| {c['method']} | {c['size']} | {fmt(c['reflection_ms'])} | {fmt(c['frame_ms'])} | "
-                     f"{fmt(c['psnr_db'])} | {fmt(c['mae'], 4)} | {fmt(c['gross_share'], 4)} | "
-                     f"{'yes' if c['pareto'] else ''} |")
+                     f"{fmt(c['psnr_db'])} | {fmt(c.get('mirror_psnr_db'))} | {fmt(c['mae'], 4)} | "
+                     f"{fmt(c['gross_share'], 4)} | {'yes' if c['pareto'] else ''} |")
     pairs = [(m, m + "+probes") for m in sorted({c["method"] for c in configs})
              if any(c["method"] == m + "+probes" for c in configs)]
     if pairs:
