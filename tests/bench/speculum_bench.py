@@ -18,7 +18,6 @@ method the engine has, "env_only" (the split-sum sky on reflective surfaces), on
 """
 import argparse
 import csv
-import hashlib
 import json
 import os
 import shutil
@@ -30,7 +29,7 @@ from pathlib import Path
 SOURCE = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(SOURCE / "tests" / "reference"))
 import store  # noqa: E402  (the converged references in assets/references)
-from store import file_hash, scene_inputs  # noqa: E402
+from store import file_hash  # noqa: E402
 
 
 def fail(message, code=2):
@@ -77,9 +76,7 @@ def view_name(view):
 def reference_key(view, size, settings, reference_binary):
     """Everything that changes a reference image: the scene's files, camera, size, spp,
     bounces, seed and the renderer itself."""
-    h = hashlib.sha256()
-    for f in scene_inputs(scene_file(view)):
-        h.update(f.name.encode() + file_hash(f).encode())
+    h = store.scene_digest(scene_file(view))
     camera = view.get("camera") or file_hash(SOURCE / view["path"])
     h.update(json.dumps([camera, size, settings], sort_keys=True).encode())
     h.update(file_hash(reference_binary).encode())
@@ -110,41 +107,42 @@ def render_reference(tools, view, size, settings, cache):
         if "fallback" not in settings:
             fail(f"{view_name(view)} {size}: {why}", 1)
         settings = settings["fallback"]
-    key = reference_key(view, size, settings, tools.reference)
-    out = cache / key
-    if (out / "reference.json").exists():
-        return out, True
-    # A private folder, renamed into place when complete: parallel tests may render the same key.
-    tmp = cache / f"{key}.tmp{os.getpid()}"
     cmd = [tools.reference, "--scene", str(scene_file(view)), *camera_args(view), "--size", size,
            "--spp", str(settings["spp"]), "--bounces", str(settings["bounces"]),
-           "--seed", str(settings.get("seed", 1)), "--aov", "linear,reflection,reflective", "--out", str(tmp)]
-    tmp.mkdir(parents=True, exist_ok=True)
-    if run(cmd, tmp / "log.txt") != 0:
-        fail(f"speculum-reference failed for {view_name(view)} {size}; see {tmp / 'log.txt'}", 1)
-    try:
-        tmp.rename(out)
-    except OSError:  # another process finished the same key first: its images are identical
-        shutil.rmtree(tmp, ignore_errors=True)
-    return out, False
+           "--seed", str(settings.get("seed", 1)), "--aov", "linear,reflection,reflective"]
+
+    def render(tmp):
+        tmp.mkdir(parents=True, exist_ok=True)
+        if run(cmd + ["--out", str(tmp)], tmp / "log.txt") != 0:
+            fail(f"speculum-reference failed for {view_name(view)} {size}; see {tmp / 'log.txt'}", 1)
+    return cached(cache, reference_key(view, size, settings, tools.reference), render)
 
 
 def render_converged(tools, view, size, bounces, cache):
     """A view the store does not hold (the placement tool's edited scenes), rendered with the
     store's converged settings into the cache: minutes a view, with the reference's progress."""
     settings = store.manifest()["settings"]
-    key = reference_key(view, size, {"converged": settings, "bounces": bounces}, tools.reference)
+
+    def render(tmp):
+        print(f"speculum-bench: converged reference of {view_name(view)} at {size} (minutes)", flush=True)
+        store.render(tools.reference, {"camera": view["camera"], "size": size, "bounces": bounces}, settings, tmp,
+                     scene=scene_file(view))
+    return cached(cache, reference_key(view, size, {"converged": settings, "bounces": bounces}, tools.reference),
+                  render)
+
+
+def cached(cache, key, render):
+    """cache/key and whether it was there already; else render(folder) fills a private folder that
+    is renamed into place when complete (parallel tests may render the same key)."""
     out = cache / key
     if (out / "reference.json").exists():
         return out, True
     tmp = cache / f"{key}.tmp{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
-    print(f"speculum-bench: converged reference of {view_name(view)} at {size} (minutes)", flush=True)
-    store.render(tools.reference, {"camera": view["camera"], "size": size, "bounces": bounces}, settings, tmp,
-                 scene=scene_file(view))
+    render(tmp)
     try:
         tmp.rename(out)
-    except OSError:  # another process finished the same key first
+    except OSError:  # another process finished the same key first: its images are identical
         shutil.rmtree(tmp, ignore_errors=True)
     return out, False
 

@@ -31,9 +31,7 @@ struct Options {
     app::CameraFlags view;  // --scene, --camera, --eye, --target, --up, --fov, --path
     std::string size = "960x540", settingsFile, out;
     std::string aov = "linear,color,reflection,reflective";
-    uint32_t spp = 64, bounces = 2, threads = 0, maxSpp = 0, roughMaxSpp = 0, minBatches = 4;
-    float targetError = 0.0f;
-    uint64_t seed = 1;
+    reference::Options render;  // the renderer's options as the flags give them (exposure from --set)
     uint32_t seeds = 1;
     std::vector<std::string> sets;
     bool settingsGiven = false;
@@ -184,17 +182,18 @@ nlohmann::json seedAgreement(const reference::Frame& a, const reference::Frame& 
 }
 
 int run(const Options& o) {
+    const reference::Options& r = o.render;
     if (o.out.empty()) throw argumentError("--out DIR is required");
     if (o.view.scenePath.empty()) throw argumentError("--scene FILE is required");
-    if (o.spp < 1 || o.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
-    if (o.maxSpp != 0 && (o.maxSpp < o.spp || o.maxSpp > 1u << 24))
+    if (r.spp < 1 || r.spp > 1u << 20) throw argumentError("--spp must be in 1..1048576");
+    if (r.maxSpp != 0 && (r.maxSpp < r.spp || r.maxSpp > 1u << 24))
         throw argumentError("--max-spp must be 0 (no adaptive sampling) or in --spp..16777216");
-    if (o.roughMaxSpp != 0 && (o.roughMaxSpp < o.spp || o.roughMaxSpp > 1u << 24))
+    if (r.roughMaxSpp != 0 && (r.roughMaxSpp < r.spp || r.roughMaxSpp > 1u << 24))
         throw argumentError("--rough-max-spp must be 0 (--max-spp) or in --spp..16777216");
-    if (!(o.targetError >= 0.0f && o.targetError < 1.0f)) throw argumentError("--target-error must be in [0, 1)");
-    if (o.minBatches < 2 || o.minBatches > 4096) throw argumentError("--min-batches must be in 2..4096");
+    if (!(r.targetError >= 0.0f && r.targetError < 1.0f)) throw argumentError("--target-error must be in [0, 1)");
+    if (r.minBatches < 2 || r.minBatches > 4096) throw argumentError("--min-batches must be in 2..4096");
     if (o.seeds < 1 || o.seeds > 16) throw argumentError("--seeds must be in 1..16");
-    if (o.bounces < 1 || o.bounces > 64) throw argumentError("--bounces must be in 1..64");
+    if (r.bounces < 1 || r.bounces > 64) throw argumentError("--bounces must be in 1..64");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = parseSize(o.size);
     std::vector<std::string> aovs = parseAovs(o.aov);
@@ -210,23 +209,15 @@ int run(const Options& o) {
         app::selectCameras(o.view, scene, w, h, 1);
     app::prepareOutputDir(o.out);  // before the BVH build and the sky prefilter
     checkReferenceBudget(scene);
-    reference::Options ropt;
-    ropt.spp = o.spp;
-    ropt.bounces = o.bounces;
-    ropt.seed = o.seed;
-    ropt.threads = o.threads;
+    reference::Options ropt = r;
     ropt.exposure = ro.exposure;
-    ropt.targetError = o.targetError;
-    ropt.minBatches = o.minBatches;
-    ropt.maxSpp = o.maxSpp;
-    ropt.roughMaxSpp = o.roughMaxSpp;
     size_t frameIndex = 0;
     auto frameStart = std::chrono::steady_clock::now();
     ropt.progress = [&](uint32_t done, uint32_t total) { progressBar(frameIndex, views.size(), done, total, frameStart); };
     // One renderer a seed (seed, seed + 1, ...): independent estimates of the same image.
     std::vector<std::unique_ptr<reference::Renderer>> renderers;
     for (uint32_t k = 0; k < o.seeds; ++k) {
-        ropt.seed = o.seed + k;
+        ropt.seed = r.seed + k;
         renderers.push_back(std::make_unique<reference::Renderer>(scene, ropt));
     }
     const reference::Renderer& renderer = *renderers.front();
@@ -236,23 +227,23 @@ int run(const Options& o) {
     for (frameIndex = 0; frameIndex < views.size(); ++frameIndex) {
         frameStart = std::chrono::steady_clock::now();
         std::vector<reference::Frame> perSeed;
-        for (const auto& r : renderers) perSeed.push_back(r->render(views[frameIndex]));
+        for (const auto& seedRenderer : renderers) perSeed.push_back(seedRenderer->render(views[frameIndex]));
         reference::Frame f = meanOfSeeds(perSeed);
         for (const std::string& a : aovs) app::writeAov(o.out, a, int(frameIndex), toAov(f, a, renderer.exposure()));
         double raysPerSecond = f.rays / std::max(f.seconds, 1e-9);
         nlohmann::json entry = {{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
-                                {"rays_per_second", raysPerSecond}, {"samples", sampleStats(f, o.targetError)}};
+                                {"rays_per_second", raysPerSecond}, {"samples", sampleStats(f, r.targetError)}};
         if (perSeed.size() >= 2) entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure());
         frames.push_back(entry);
         std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
                     raysPerSecond / 1e6);
     }
     nlohmann::json report = {{"scene", o.view.scenePath},         {"width", w},
-                             {"height", h},              {"spp", o.spp},
-                             {"bounces", o.bounces},     {"seed", o.seed}, {"seeds", o.seeds},
-                             {"target_error", o.targetError}, {"min_batches", o.minBatches},
-                             {"max_spp", o.maxSpp}, {"rough_max_spp", o.roughMaxSpp},
-                             {"threads", o.threads},     {"exposure", renderer.exposure()},
+                             {"height", h},              {"spp", r.spp},
+                             {"bounces", r.bounces},     {"seed", r.seed}, {"seeds", o.seeds},
+                             {"target_error", r.targetError}, {"min_batches", r.minBatches},
+                             {"max_spp", r.maxSpp}, {"rough_max_spp", r.roughMaxSpp},
+                             {"threads", r.threads},     {"exposure", renderer.exposure()},
                              {"setup_seconds", setupSeconds}, {"frames", frames}};
     app::writeText(fs::path(o.out) / "reference.json", report.dump(2));
     std::fflush(stdout);
@@ -265,18 +256,18 @@ int main(int argc, char** argv) {
     Options o;
     CLI::App cli{"speculum-reference: ground-truth Embree renders of a glTF scene, as speculum-capture frames it"};
     app::addCameraOptions(cli, o.view, o.size);
-    cli.add_option("--spp", o.spp, "glossy reflection samples per pixel, or per batch with --target-error (default 64)");
-    cli.add_option("--target-error", o.targetError,
+    cli.add_option("--spp", o.render.spp, "glossy reflection samples per pixel, or per batch with --target-error (default 64)");
+    cli.add_option("--target-error", o.render.targetError,
                    "adaptive sampling: batches of --spp until the standard error in display units is at most this (default 0: off)");
-    cli.add_option("--max-spp", o.maxSpp, "adaptive sampling: at most this many samples a pixel (default 0: --spp)");
-    cli.add_option("--rough-max-spp", o.roughMaxSpp,
+    cli.add_option("--max-spp", o.render.maxSpp, "adaptive sampling: at most this many samples a pixel (default 0: --spp)");
+    cli.add_option("--rough-max-spp", o.render.roughMaxSpp,
                    "adaptive sampling: the cap for reflection roughness >= 0.3, the rough band (default 0: --max-spp)");
     cli.add_option("--seeds", o.seeds,
                    "render seeds --seed..--seed+N-1 and write their mean; with 2 or more, reference.json reports their agreement (default 1)");
-    cli.add_option("--min-batches", o.minBatches, "adaptive sampling: at least this many batches (default 4)");
-    cli.add_option("--bounces", o.bounces, "reflective surfaces traced this deep (default 2)");
-    cli.add_option("--seed", o.seed, "random seed (same seed, same image; default 1)");
-    cli.add_option("--threads", o.threads, "render threads (default: all hardware threads)");
+    cli.add_option("--min-batches", o.render.minBatches, "adaptive sampling: at least this many batches (default 4)");
+    cli.add_option("--bounces", o.render.bounces, "reflective surfaces traced this deep (default 2)");
+    cli.add_option("--seed", o.render.seed, "random seed (same seed, same image; default 1)");
+    cli.add_option("--threads", o.render.threads, "render threads (default: all hardware threads)");
     app::addSettingsOptions(cli, o.settingsFile, o.sets, "render.exposure");
     cli.add_option("--aov", o.aov,
                    "comma list: linear,color,reflection,depth,normal,reflective (default linear,color,reflection,reflective)");

@@ -219,16 +219,31 @@ TEST(Reference, MirrorSphereReflectsAlongTheAnalyticDirection) {
     EXPECT_LT(worst, 3e-3);
 }
 
+namespace {
+
+// A glossy floor (roughness 0.35) under the test sky, and a camera looking down at it: the
+// estimator's convergence cases.
+Scene glossyFloor(const std::string& name) {
+    Scene s = sceneWithSky(tempDir(name));
+    s.materials = {mirror(0.35f)};
+    s.meshes = {floorPlane(50.0f, 0)};
+    finish(s);
+    return s;
+}
+
+render::CameraState glossyFloorCamera() {
+    return render::makeCamera({0, 2.0f, 0}, {0, 0, -3.0f}, {0, 1, 0}, glm::radians(40.0f), 48, 27);
+}
+
+}  // namespace
+
 // Monte Carlo error of the glossy lobe falls at least as fast as 1 / sqrt(spp): the lobe's
 // directions are a shifted Hammersley set (stratified), so on this smooth sky it falls faster,
 // about as 1 / spp (ratios 3.7 a fourfold step, measured), and no faster than spp^-1.5 (8), which
 // would mean the "truth" shares the images' points.
 TEST(Reference, GlossyErrorFallsAtLeastAsOneOverSqrtSpp) {
-    Scene s = sceneWithSky(tempDir("glossy"));
-    s.materials = {mirror(0.35f)};
-    s.meshes = {floorPlane(50.0f, 0)};
-    finish(s);
-    render::CameraState cam = render::makeCamera({0, 2.0f, 0}, {0, 0, -3.0f}, {0, 1, 0}, glm::radians(40.0f), 48, 27);
+    Scene s = glossyFloor("glossy");
+    render::CameraState cam = glossyFloorCamera();
     auto renderSpp = [&](uint32_t spp, uint64_t seed) {
         return reference::Renderer(s, {spp, 1, seed, 0, 1.0f, {}}).render(cam).reflection;
     };
@@ -257,11 +272,8 @@ TEST(Reference, GlossyErrorFallsAtLeastAsOneOverSqrtSpp) {
 // reported errors (0.5x-2x allowed: the error is estimated from a few batches). A stderror that
 // ignored the batches' spread, or batches that shared their points, would fail.
 TEST(Reference, AdaptiveSamplingReportsItsOwnError) {
-    Scene s = sceneWithSky(tempDir("adaptive"));
-    s.materials = {mirror(0.35f)};
-    s.meshes = {floorPlane(50.0f, 0)};
-    finish(s);
-    render::CameraState cam = render::makeCamera({0, 2.0f, 0}, {0, 0, -3.0f}, {0, 1, 0}, glm::radians(40.0f), 48, 27);
+    Scene s = glossyFloor("adaptive");
+    render::CameraState cam = glossyFloorCamera();
     auto renderSeed = [&](uint64_t seed) {
         reference::Options o;
         o.spp = 8;

@@ -112,6 +112,8 @@ struct Renderer::Impl {
                        uint64_t& rays, const glm::vec2* point = nullptr) const;
     glm::vec3 reflection(const Surface& s, glm::vec3 v, uint32_t bounces, uint32_t samples, Rng& rng,
                          uint64_t& rays, const glm::vec2* point = nullptr) const;
+    // render.exposure times the scene's extras.exposure: what the tonemap and the metrics multiply by.
+    float displayExposure() const { return options.exposure * sky.sceneExposure(); }
     glm::vec3 adaptiveReflection(const Surface& s, glm::vec3 v, Rng& rng, uint64_t& rays, float& samples,
                                  float& stderror) const;
     void renderPixel(const render::CameraState& camera, uint32_t x, uint32_t y, Frame& f, uint64_t& rays) const;
@@ -347,7 +349,7 @@ glm::vec3 Renderer::Impl::adaptiveReflection(const Surface& s, glm::vec3 v, Rng&
     samples = float(batch);
     stderror = -1.0f;
     if (options.targetError <= 0.0f || maxSpp < 2 * batch) return sum;
-    const float exposure = options.exposure * sky.sceneExposure();
+    const float exposure = displayExposure();
     auto display = [&](glm::vec3 x) { return glm::clamp(x * exposure, 0.0f, 1.0f); };
     glm::vec3 first = display(sum), sq = first * first, lin = first;
     auto error = [&](uint32_t k) {
@@ -405,7 +407,7 @@ Renderer::Renderer(const Scene& scene, const Options& options) {
 Renderer::~Renderer() = default;
 
 float Renderer::exposure() const {
-    return impl_->options.exposure * impl_->sky.sceneExposure();
+    return impl_->displayExposure();
 }
 
 Frame Renderer::render(const render::CameraState& camera) const {

@@ -93,10 +93,16 @@ def scene_file(e):
     return _generated[e["generator"]] / f"{e['scene']}.gltf"
 
 
-def key(e, settings):
+def scene_digest(gltf):
+    """A sha256 that has taken in the scene's files (the bench's keys start from it too)."""
     h = hashlib.sha256()
-    for f in scene_inputs(scene_file(e)):
+    for f in scene_inputs(gltf):
         h.update(f.name.encode() + file_hash(f).encode())
+    return h
+
+
+def key(e, settings):
+    h = scene_digest(scene_file(e))
     h.update(json.dumps([e["camera"], e["size"], e["bounces"], settings, estimator_version()],
                         sort_keys=True).encode())
     return h.hexdigest()[:24]
