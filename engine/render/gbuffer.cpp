@@ -49,9 +49,11 @@ static_assert(sizeof(DrawConstants) <= 128, "push constants must fit lavapipe's 
 // Which of the three G-buffer pipelines a draw uses.
 enum class CullKind : uint8_t { Back, Front, None };
 
-CullKind cullKind(const DrawItem& d, const GpuMaterial& m) {
+// A view reflected in a plane (FrameInputs::mirrored) flips every triangle's winding, as a
+// mirrored transform flips its own: the two cancel.
+CullKind cullKind(const DrawItem& d, const GpuMaterial& m, bool mirroredView = false) {
     if (m.doubleSided) return CullKind::None;
-    return d.mirrored ? CullKind::Front : CullKind::Back;
+    return d.mirrored != mirroredView ? CullKind::Front : CullKind::Back;
 }
 
 // readOnlyDepth: test against the prepass's depth, which stays as it is.
@@ -107,8 +109,8 @@ void updateFrameConstants(VkCommandBuffer cmd, VkBuffer buffer, const FrameConst
 }
 
 const gpu::Pipeline& pipelineFor(const gpu::Pipeline (&pipelines)[3], const DrawItem& d,
-                                 const GpuMaterial& m) {
-    return pipelines[int(cullKind(d, m))];
+                                 const GpuMaterial& m, bool mirroredView) {
+    return pipelines[int(cullKind(d, m, mirroredView))];
 }
 
 }  // namespace
@@ -170,7 +172,7 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
     const gpu::Pipeline* bound = nullptr;
     for (const DrawItem& d : gpuScene.draws) {
         if (!d.drawnIn(frame.primaryView)) continue;
-        const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material]);
+        const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material], frame.mirrored);
         if (p != bound) {
             p->bind(cmd);
             gpu::DescriptorWriter().buffer("frame", frameConstants.get()).push(ctx, cmd, *p);
@@ -183,7 +185,7 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
 }
 
 void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
-                                   VkImageView depth, bool primaryView) const {
+                                   VkImageView depth, bool primaryView, bool mirroredView) const {
     beginRendering(cmd, extent, colors, depth, true);
     bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
@@ -191,7 +193,7 @@ void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const
     for (const DrawItem& d : gpuScene.draws) {
         if (!d.drawnIn(primaryView)) continue;
         const GpuMaterial& m = gpuScene.materials[d.material];
-        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m);
+        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m, mirroredView);
         if (p != bound) {
             p->bind(cmd);
             bound = p;
@@ -254,10 +256,10 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
             d.g.motion = target("render.motion", kMotionFormat);
             d.g.depth = b.read(depth, TextureUsage::DepthRead);
         },
-        [impl, primary = frame.primaryView](const GBufferData& d, PassContext& ctx) {
+        [impl, primary = frame.primaryView, mirrored = frame.mirrored](const GBufferData& d, PassContext& ctx) {
             std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal),
                                                ctx.view(d.g.emissive), ctx.view(d.g.motion)};
-            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth), primary);
+            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth), primary, mirrored);
         });
     GBuffer result = g.g;
     result.shadowMask = mask;

@@ -108,7 +108,7 @@ struct Renderer::Impl {
     void recordShadowMask(PassContext& pass, const FrameInputs& frame, TextureHandle depth,
                           TextureHandle map, TextureHandle out) const;
     void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
-                       VkImageView depth, bool primaryView) const;
+                       VkImageView depth, bool primaryView, bool mirroredView) const;
     void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
                         TextureHandle out, const LightingOptions& lighting) const;
     void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;

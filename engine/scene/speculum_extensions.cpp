@@ -74,16 +74,28 @@ ReflectionProbe parseProbe(const json& ext, const std::string& where, const Read
                 {"kind", "shape", "extents", "blendDistance", "resolution", "update", "order"}, r);
     p.kind = parseEnum(ext, "kind", where, p.kind, kProbeKindNames, r);
     p.shape = parseEnum(ext, "shape", where, p.shape, kProbeShapeNames, r);
-    auto e = r.floats(ext, "extents", where, 3, {p.extents.x, p.extents.y, p.extents.z});
+    const bool planar = p.kind == ProbeKind::Planar;
+    // A planar probe's extents are the rectangle on its plane: [half width, half depth].
+    auto e = planar ? r.floats(ext, "extents", where, 2, {p.extents.x, p.extents.y})
+                    : r.floats(ext, "extents", where, 3, {p.extents.x, p.extents.y, p.extents.z});
     for (float v : e)
         if (!(v > 0.0f)) r.fail(where + ".extents", "every extent must be positive");
-    p.extents = {e[0], e[1], e[2]};
+    p.extents = {e[0], e[1], planar ? 1.0f : e[2]};
     p.blendDistance = ranged(ext, "blendDistance", where, p.blendDistance, 0.0f, 1.0e6f, r);
-    int64_t res = r.integer(ext, "resolution", where, p.resolution);
-    // Faces are GGX-prefiltered down to 4x4 like the sky's cube, whose mips halve exactly.
-    if (res < 8 || res > 4096 || (res & (res - 1)) != 0)
-        r.fail(where + ".resolution", std::to_string(res) + " is not a power of two in [8, 4096]");
-    p.resolution = uint32_t(res);
+    if (planar) {
+        // The planar image's height; absent: half the view's (0). Below 16 px a mirror is a
+        // blur; above 4096 it is over any view this engine renders.
+        int64_t res = r.integer(ext, "resolution", where, 0);
+        if (ext.contains("resolution") && (res < 16 || res > 4096))
+            r.fail(where + ".resolution", std::to_string(res) + " is out of range [16, 4096] (image height in pixels)");
+        p.resolution = uint32_t(res);
+    } else {
+        int64_t res = r.integer(ext, "resolution", where, p.resolution);
+        // Faces are GGX-prefiltered down to 4x4 like the sky's cube, whose mips halve exactly.
+        if (res < 8 || res > 4096 || (res & (res - 1)) != 0)
+            r.fail(where + ".resolution", std::to_string(res) + " is not a power of two in [8, 4096]");
+        p.resolution = uint32_t(res);
+    }
     p.update = parseEnum(ext, "update", where, p.update, kProbeUpdateNames, r);
     int64_t order = r.integer(ext, "order", where, p.order);
     if (order < -1000000 || order > 1000000)
@@ -105,9 +117,15 @@ void writeReflections(json& ext, const MaterialReflections& m) {
 void writeProbe(json& ext, const ReflectionProbe& p) {
     ext["kind"] = enumName(p.kind, kProbeKindNames);
     ext["shape"] = enumName(p.shape, kProbeShapeNames);
-    ext["extents"] = {p.extents.x, p.extents.y, p.extents.z};
     ext["blendDistance"] = p.blendDistance;
-    ext["resolution"] = p.resolution;
+    if (p.kind == ProbeKind::Planar) {
+        ext["extents"] = {p.extents.x, p.extents.y};
+        if (p.resolution > 0) ext["resolution"] = p.resolution;
+        else ext.erase("resolution");
+    } else {
+        ext["extents"] = {p.extents.x, p.extents.y, p.extents.z};
+        ext["resolution"] = p.resolution;
+    }
     ext["update"] = enumName(p.update, kProbeUpdateNames);
     ext["order"] = p.order;
 }

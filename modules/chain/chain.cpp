@@ -35,6 +35,8 @@ app::LitHook Chain::litHook(const Settings& settings, const render::FrameInputs&
         hook.addPasses = [](FrameGraph&, const render::GBuffer&, TextureHandle lit, app::ModuleAovs&) { return lit; };
         return hook;
     }
+    // Planar probes are view-dependent: rendered for this frame's camera before its graph runs.
+    if (s.probes) probes_.renderPlanar(frame);
     hook.addPasses = [this, s, frame, probeView](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
                                                  app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;

@@ -22,8 +22,15 @@ static_assert(sizeof(BouncePush) == 96);
 }  // namespace
 
 Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res) {
+    render::FrameInputs frame;
+    frame.camera = frame.previousCamera = faceCamera(center, face, res);
+    return addCaptureView(fg, frame);
+}
+
+Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const render::FrameInputs& view) {
     CaptureFace c;
-    c.frame.camera = c.frame.previousCamera = faceCamera(center, face, res);
+    c.frame = view;
+    const uint32_t width = view.camera.width, height = view.camera.height;
     c.g = renderer.addGBufferPasses(fg, c.frame);
     // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
     TextureHandle lit = renderer.addLightingPass(fg, c.frame, c.g, {.moduleSpecular = true});
@@ -49,7 +56,7 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
             d.recs = pb.read(recs, BufferUsage::StorageRead);
             d.out = pb.write(pb.create("probes.face", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
         },
-        [this, frame, visible, res, &env](const Bounce& d, PassContext& pc) {
+        [this, frame, visible, width, height, &env](const Bounce& d, PassContext& pc) {
             bounce.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.g.depth), nearest)
@@ -64,11 +71,12 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
                 .storage("outLit", pc.view(d.out))
                 .push(ctx, pc.cmd(), bounce);
             BouncePush p{frame.camera.invViewProj, glm::vec4(frame.camera.position, float(env.mipCount() - 1)),
-                         glm::uvec4(res, res, visible, 0u)};
+                         glm::uvec4(width, height, visible, 0u)};
             vkCmdPushConstants(pc.cmd(), bounce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
-            vkCmdDispatch(pc.cmd(), (res + 7) / 8, (res + 7) / 8, 1);
+            vkCmdDispatch(pc.cmd(), (width + 7) / 8, (height + 7) / 8, 1);
         });
     c.face = b.out;
+    c.lit = lit;
     return c;
 }
 

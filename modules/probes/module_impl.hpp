@@ -75,6 +75,19 @@ struct Probes::Impl {
     };
     std::optional<CmoState> cmo;
 
+    // Planar probes (planar.cpp): one 2D array, a layer per probe at the largest probe's size for
+    // the current view; a probe below it renders at the mip of its own height.
+    struct PlanarState {
+        std::vector<PlanarInfo> list;
+        gpu::Image images;  // RGBA16F, GENERAL between uses
+        gpu::Buffer records;
+        gpu::Pipeline store;
+        uint32_t width = 0, height = 0;  // the view the images were made for
+        uint32_t rendered = 0;           // records written by the last renderPlanar
+        double ms = 0.0;
+    };
+    PlanarState planar;
+
     Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettings& s);
     void validate() const;
     void allocate();
@@ -98,8 +111,11 @@ struct Probes::Impl {
         render::FrameInputs frame;
         render::GBuffer g;
         TextureHandle face;
+        TextureHandle lit;  // render.lighting's image, with the sky (the face leaves it out)
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
+    // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.
+    CaptureFace addCaptureView(FrameGraph& fg, const render::FrameInputs& frame);
     // Compiles and runs a capture graph; returns its GPU milliseconds.
     double runCapture(FrameGraph& fg);
 
@@ -111,6 +127,11 @@ struct Probes::Impl {
     void finishCmo(size_t index);
     uint32_t writeCmoRecords();
     void updateCmos(const Progress& progress);
+    // Planar probes (planar.cpp).
+    void createPlanar();
+    void validatePlanar() const;
+    void allocatePlanar(uint32_t width, uint32_t height);
+    void renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t layer);
     // One step of the first probe or CMO whose capture cycle is under way (moveProbe, recapture).
     void stepRelocations();
 };

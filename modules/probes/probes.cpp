@@ -77,6 +77,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
     validate();
     allocate();
     createCmos();
+    createPlanar();
 }
 
 void Probes::Impl::validate() const {
@@ -346,6 +347,9 @@ ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled, bool cmos) {
     set.cmos.albedo = import(c.albedo, "probes.cmo.albedo");
     set.cmos.records = graph.importBuffer("probes.cmo.records", {c.records.size()}, {c.records.get()});
     set.cmos.count = cmos ? uint32_t(std::count(c.ready.begin(), c.ready.end(), true)) : 0;
+    set.planar.images = import(m.planar.images, "probes.planar");
+    set.planar.records = graph.importBuffer("probes.planar.records", {m.planar.records.size()}, {m.planar.records.get()});
+    set.planar.count = enabled ? m.planar.rendered : 0;
     return set;
 }
 

@@ -22,7 +22,8 @@ static_assert(offsetof(FrameUniforms, eye) == 256 && offsetof(FrameUniforms, zne
 static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, maxIterations) == 288);
 static_assert(offsetof(FrameUniforms, traceMode) == 368 && offsetof(FrameUniforms, temporalAlpha) == 400);
 static_assert(offsetof(FrameUniforms, cmoCount) == 416);
-static_assert(sizeof(FrameUniforms) == 448, "std140 layout");
+static_assert(offsetof(FrameUniforms, planarCount) == 448);
+static_assert(sizeof(FrameUniforms) == 464, "std140 layout");
 
 // The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
 // them and knows whether the previous one was written).
@@ -81,6 +82,10 @@ struct Reflections::Impl {
     gpu::Image noProbeCubes;
     gpu::Buffer noProbeRecords;
     probes::ProbeSet importNoProbes(FrameGraph& g) const;
+    // The same for planar probes: a black 4x4 layer and one zeroed record, read zero times.
+    gpu::Image noPlanarImages;
+    gpu::Buffer noPlanarRecords;
+    probes::PlanarSet importNoPlanar(FrameGraph& g) const;
     // This frame's imports of the histories (addColorPyramid reads previous, addHistory writes current).
     HistoryHandles historyColor, historyDepth, historyReflection, historyNormal;
 

@@ -222,15 +222,18 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
                                    GlossyMode glossy, ReflectionOutputs& out) {
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes;
-        BufferHandle probeRecords;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes, planar;
+        BufferHandle probeRecords, planarRecords;
     };
     probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
+    if (!set.planar.images.valid()) set.planar = importNoPlanar(g);
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
             data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
+            data.planar = b.read(set.planar.images, TextureUsage::Sampled);
+            data.planarRecords = b.read(set.planar.records, BufferUsage::StorageRead);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -262,6 +265,8 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                 .buffer("ProbeBuffer", pc.buffer(data.probeRecords))
                 .sampled("probeCubes", pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
                 .sampled("cmoTex", pc.view(data.cmo), nearest)
+                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
                 .storage("distanceOut", pc.view(data.distance));
             dispatch(pc, resolve(res, glossy), w, pc.extent(data.reflection));
         });

@@ -60,14 +60,22 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
     noProbeRecords = gpu::Buffer(c, sizeof(probes::shader::Probe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
                                  "reflections.no_probe_records");
     std::memset(noProbeRecords.mapped(), 0, sizeof(probes::shader::Probe));
+    noPlanarImages = gpu::Image(
+        c, {4, 4, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+        "reflections.no_planar");
+    noPlanarRecords = gpu::Buffer(c, sizeof(probes::shader::PlanarProbe), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true,
+                                  "reflections.no_planar_records");
+    std::memset(noPlanarRecords.mapped(), 0, sizeof(probes::shader::PlanarProbe));
     c.submitAndWait([&](VkCommandBuffer cmd) {
-        gpu::transition(cmd, noProbeCubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-        VkClearColorValue black{};
-        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
-        vkCmdClearColorImage(cmd, noProbeCubes.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &all);
-        gpu::transition(cmd, noProbeCubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        for (VkImage image : {noProbeCubes.get(), noPlanarImages.get()}) {
+            gpu::transition(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+            VkClearColorValue black{};
+            VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, VK_REMAINING_ARRAY_LAYERS};
+            vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &all);
+            gpu::transition(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        }
     });
 }
 
@@ -79,6 +87,17 @@ probes::ProbeSet Reflections::Impl::importNoProbes(FrameGraph& g) const {
                         {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
     set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::shader::Probe)}, {noProbeRecords.get()});
+    set.planar = importNoPlanar(g);
+    return set;
+}
+
+probes::PlanarSet Reflections::Impl::importNoPlanar(FrameGraph& g) const {
+    probes::PlanarSet set;
+    set.images = g.importTexture("reflections.no_planar", {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT},
+                                 {noPlanarImages.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noPlanarImages.desc().usage});
+    set.records = g.importBuffer("reflections.no_planar_records", {sizeof(probes::shader::PlanarProbe)},
+                                 {noPlanarRecords.get()});
     return set;
 }
 
@@ -149,6 +168,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.cmoBounces = float(s.cmoBounces);
     u.cmoMaxRoughness = s.cmoMaxRoughness;
     u.cmoPassBehind = s.cmoPassBehind ? 1u : 0u;
+    u.planarCount = s.probes && in.probes.planar.records.valid() ? in.probes.planar.count : 0u;
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 

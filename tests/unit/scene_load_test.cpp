@@ -343,6 +343,14 @@ TEST(SceneLoad, SpeculumExtensionsAreParsed) {
     EXPECT_EQ(p.update, ProbeUpdate::TimeSliced);
     EXPECT_EQ(p.order, -2);
     EXPECT_FALSE(s.nodes[0].probe.has_value());
+    // A planar probe: its two extents, and resolution 0 (half the view's height) when absent.
+    g.doc["nodes"][2]["extensions"]["SPECULUM_reflection_probe"] = {{"kind", "planar"}, {"extents", {2.5, 1.5}}};
+    Scene planar = loadScene(writeGltf(dir / "planar.gltf", g));
+    ASSERT_TRUE(planar.nodes[2].probe.has_value());
+    EXPECT_EQ(planar.nodes[2].probe->kind, ProbeKind::Planar);
+    EXPECT_FLOAT_EQ(planar.nodes[2].probe->extents.x, 2.5f);
+    EXPECT_FLOAT_EQ(planar.nodes[2].probe->extents.y, 1.5f);
+    EXPECT_EQ(planar.nodes[2].probe->resolution, 0u);
     EXPECT_EQ(s.roots, (std::vector<int>{0, 2}));
 }
 

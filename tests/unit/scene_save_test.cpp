@@ -224,6 +224,12 @@ TEST(SceneSave, TypedChangesAreWrittenAndExtensionsUsedFollows) {
     probe.shape = ProbeShape::Sphere;
     probe.update = ProbeUpdate::EveryFrame;
     a.nodes[2].probe = probe;
+    // A planar probe keeps its two extents and its default resolution (0: written as absent).
+    ReflectionProbe planar;
+    planar.kind = ProbeKind::Planar;
+    planar.extents = {2.0f, 1.5f, 1.0f};
+    planar.resolution = 0;
+    a.nodes[3].probe = planar;
     saveScene(a, dir / "changed.gltf");
     Scene b = loadScene(dir / "changed.gltf");
     EXPECT_EQ(b.nodes[1].translation, glm::vec3(5, 6, 7));
@@ -237,6 +243,10 @@ TEST(SceneSave, TypedChangesAreWrittenAndExtensionsUsedFollows) {
     EXPECT_FALSE(b.nodes[4].probe.has_value());
     ASSERT_TRUE(b.nodes[2].probe.has_value());
     EXPECT_EQ(*b.nodes[2].probe, probe);
+    ASSERT_TRUE(b.nodes[3].probe.has_value());
+    EXPECT_EQ(*b.nodes[3].probe, planar);
+    EXPECT_FALSE(b.document["nodes"][3]["extensions"]["SPECULUM_reflection_probe"].contains("resolution"));
+    EXPECT_EQ(b.document["nodes"][3]["extensions"]["SPECULUM_reflection_probe"]["extents"].size(), 2u);
     const json& used = b.document["extensionsUsed"];
     auto has = [&](const char* e) { return std::find(used.begin(), used.end(), e) != used.end(); };
     EXPECT_FALSE(has("SPECULUM_reflections"));

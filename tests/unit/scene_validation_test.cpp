@@ -220,7 +220,14 @@ TEST(SceneValidation, SpeculumExtensionValues) {
     expectBadEdit("refl_mirror", refl({{"mirrorForSelfReflections", "yes"}}),
                   m + "mirrorForSelfReflections");
     expectBadEdit("refl_not_object", refl(5), "SPECULUM_reflections: expected an object");
-    expectBadEdit("probe_kind", probe({{"kind", "planar"}}), n + "kind: unknown value");
+    expectBadEdit("probe_kind", probe({{"kind", "planer"}}), n + "kind: unknown value");
+    // Planar probes (issue 24): two extents, both positive; an image height in [16, 4096].
+    expectBadEdit("planar_extents_len", probe({{"kind", "planar"}, {"extents", {1, 1, 1}}}), n + "extents: expected 2");
+    expectBadEdit("planar_extents_zero", probe({{"kind", "planar"}, {"extents", {2, 0}}}), n + "extents: every extent");
+    expectBadEdit("planar_res_low", probe({{"kind", "planar"}, {"extents", {2, 2}}, {"resolution", 8}}),
+                  n + "resolution: 8 is out of range [16, 4096]");
+    expectBadEdit("planar_res_high", probe({{"kind", "planar"}, {"extents", {2, 2}}, {"resolution", 5000}}),
+                  n + "resolution: 5000 is out of range");
     expectBadEdit("probe_shape", probe({{"shape", "cone"}}), n + "shape: unknown value");
     expectBadEdit("probe_extents", probe({{"extents", {1, -1, 1}}}), n + "extents");
     expectBadEdit("probe_extents_len", probe({{"extents", {1, 1}}}), n + "extents");

@@ -122,18 +122,22 @@ struct Camera {  // resolved to world space
 };
 
 enum class ProbeShape : uint8_t { Box, Sphere };
-enum class ProbeKind : uint8_t { LocalCubemap, Cmo };
+enum class ProbeKind : uint8_t { LocalCubemap, Cmo, Planar };
 enum class ProbeUpdate : uint8_t { Once, OnDemand, EveryFrame, TimeSliced };
 inline constexpr std::array<const char*, 2> kProbeShapeNames = {"box", "sphere"};
-inline constexpr std::array<const char*, 2> kProbeKindNames = {"local_cubemap", "cmo"};
+inline constexpr std::array<const char*, 3> kProbeKindNames = {"local_cubemap", "cmo", "planar"};
 inline constexpr std::array<const char*, 4> kProbeUpdateNames = {"once", "on_demand", "every_frame", "time_sliced"};
 
 // SPECULUM_reflection_probe on a node.
 struct ReflectionProbe {
     ProbeKind kind = ProbeKind::LocalCubemap;
     ProbeShape shape = ProbeShape::Box;
-    glm::vec3 extents{1.0f};  // box half-extents, or radius in x for spheres
+    // Box half-extents, or radius in x for spheres; a planar probe's half width along the
+    // node's local x and half depth along its local z in x and y (metres; z unused).
+    glm::vec3 extents{1.0f};
     float blendDistance = 0.5f;
+    // Cube face size; a planar probe's image height in pixels, 0 for its default (half the
+    // view's height; the width follows the view's aspect).
     uint32_t resolution = 128;
     ProbeUpdate update = ProbeUpdate::Once;
     int order = 0;

@@ -15,8 +15,19 @@ struct Probe {
     vec4 params;        // x cube index in the array, y the array's last mip, zw unused
 };
 
+// A planar probe's record (modules/probes/planar.cpp writes them each frame, planar.glsl reads
+// them from PlanarBuffer), std430: two matrices and three vec4 rows, 176 bytes.
+struct PlanarProbe {
+    mat4 viewProj;      // the mirrored camera's: a point on the plane lands where the view sees it
+    mat4 worldToPlane;  // world to the plane's frame (metres): x along the width, y the normal, z the depth
+    vec4 plane;         // xyz unit normal (world), w = -dot(normal, origin): dot(plane.xyz, p) + w
+    vec4 extents;       // x half width, y half depth (m), z cos of the normal tolerance, w distance tolerance (m)
+    vec4 params;        // x layer of the image array, y its base mip, z rad per pixel at that mip, w last mip
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 112);
+static_assert(sizeof(PlanarProbe) == 176);
 #endif
 SPECULUM_SHADER_NAMESPACE_END
 

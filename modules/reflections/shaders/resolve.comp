@@ -13,6 +13,9 @@
 #define PROBES_BUFFER_BINDING 11
 #define PROBES_CUBES_BINDING 12
 #include "probes/shaders/probes.glsl"
+#define PLANAR_BUFFER_BINDING 16
+#define PLANAR_IMAGES_BINDING 17
+#include "probes/shaders/planar.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -153,7 +156,14 @@ void main() {
         float coverage = 0.0;
         vec4 hit = texelFetch(hitTex, out_, 0);
         float hitDistance = 0.0;
-        if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
+        // A pixel on a planar probe's plane takes the planar image, not screen space: the mirrored
+        // view is exact there, and screen space's false hits behind thin objects (a sphere's
+        // unseen underside reflected in the floor under it) were streaks of the wrong colour
+        // (issue 24; modules/reflections/MEASUREMENTS.md, "planar probes").
+        int planar = rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
+        if (planar >= 0) {
+            // no screen-space term: coverage stays 0 and the planar step below takes it all
+        } else if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
             if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
                 screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);
                 coverage *= clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
@@ -167,30 +177,41 @@ void main() {
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
         }
-        // The fallback chain beyond screen space: CMOs (what reflections.cmo_trace found), then
-        // local probes, then the sky, only where screen space leaves something (the probe
-        // lookup is most of this pass's cost past the cone).
+        // The fallback chain: a planar probe whose plane the pixel lies on (exact for a flat
+        // mirror), else beyond screen space the CMOs (what reflections.cmo_trace found), then local
+        // probes, then the sky, only where screen space leaves something (the probe lookup is
+        // most of this pass's cost past the cone).
         vec4 probe = vec4(0.0);
         vec3 env = vec3(0.0);
         float proxyDistance = 0.0;
         float cmoWeight = 0.0;
+        float planarWeight = 0.0;
         vec4 cmo = vec4(0.0);
         if (coverage < 1.0 || !finite3(screen)) {
-            if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
-            cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
-            if (cmoWeight < 1.0) {
-                probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
-                vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-                env = probe.rgb + (1.0 - probe.a) * sky;
+            if (planar >= 0) {
+                vec4 pl = samplePlanar(planar, p, r, m.roughness, distance(p, rfm.eye));
+                env = pl.rgb;
+                planarWeight = 1.0;
+                proxyDistance = pl.a;
             } else {
-                env = cmo.rgb;
+                if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
+                cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
+                if (cmoWeight < 1.0) {
+                    probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
+                    vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
+                    env = probe.rgb + (1.0 - probe.a) * sky;
+                } else {
+                    env = cmo.rgb;
+                }
             }
         }
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
         reflection = vec4(max(radiance, vec3(0.0)), coverage);
-        float rest = (1.0 - coverage) * (1.0 - cmoWeight);
-        method = vec4(coverage, rest * probe.a, rest * (1.0 - probe.a), (1.0 - coverage) * cmoWeight);
+        // A planar probe's share counts with the probes' (g): the method AOV has four channels.
+        float rest = (1.0 - coverage) * (1.0 - cmoWeight) * (1.0 - planarWeight);
+        method = vec4(coverage, rest * probe.a + (1.0 - coverage) * planarWeight, rest * (1.0 - probe.a),
+                      (1.0 - coverage) * cmoWeight);
         float top = max(max(method.r, method.g), max(method.b, method.a));
         distance_ = method.r >= top ? hitDistance : method.a >= top ? cmo.a : method.b >= top ? kSkyDistance : proxyDistance;
     }

@@ -79,6 +79,9 @@ struct FrameInputs {
     // G-buffer (they still cast shadows and appear in probe and CMO captures, which leave this
     // false).
     bool primaryView = false;
+    // The camera is reflected in a plane (a planar probe's view, modules/probes): its
+    // view matrix has a negative determinant, so every draw's front face flips.
+    bool mirrored = false;
 };
 
 // The handles the renderer's passes produce. `lit` is the lit HDR image before reflections are

@@ -66,12 +66,21 @@ struct CmoSet {
     uint32_t count = 0;      // 0: none (or off); the handles still name valid arrays
 };
 
+// The planar probes (kind planar) rendered for this frame's view: one layer of a 2D array each,
+// with box mips for glossy reflections. SHADER_READ-able (GENERAL between uses).
+struct PlanarSet {
+    TextureHandle images;  // RGBA16F 2D array: rgb the mirrored view's radiance, a the reflected distance (m)
+    BufferHandle records;  // shader::PlanarProbe[count]
+    uint32_t count = 0;    // 0: none faces this view (or off); the handles still name valid arrays
+};
+
 // What the module hands to the next one: valid handles in the graph they were added to.
 struct ProbeSet {
     TextureHandle cubes;   // cube array, SHADER_READ_ONLY: cube i is probe i's prefiltered radiance
     BufferHandle records;  // shader::Probe[count], in blend order
     uint32_t count = 0;    // 0: no probe (or probes off); the handles still name valid dummies
     CmoSet cmos;           // invalid handles when the host did not add them
+    PlanarSet planar;      // invalid handles when the host did not add them
 };
 
 // A CMO of the scene, as the module keeps it.
@@ -82,6 +91,34 @@ struct CmoInfo {
     glm::vec3 center{0.0f};
     uint32_t slot = 0;  // its six layers in the arrays start at 6 * slot
 };
+
+// A planar probe of the scene (kind planar), as the module keeps it.
+struct PlanarInfo {
+    int node = -1;
+    std::string name;
+    ReflectionProbe probe;
+    glm::vec3 origin{0.0f}, axisX{1, 0, 0}, normal{0, 1, 0}, axisZ{0, 0, 1};  // world, orthonormal
+    glm::vec4 plane{0.0f};  // normal, -dot(normal, origin)
+};
+
+// At most this many planar probes in a scene: each renders the scene once more per frame
+// (depth prepass, G-buffer, lighting at its resolution), so four of them at the default half
+// height cost about one more full-size engine frame.
+inline constexpr size_t kMaxPlanarProbes = 4;
+
+// The planar probe of a node: the node's origin lies on the plane, its local +Y is the normal
+// (axes normalized: the node's scale does not scale the extents, which are metres).
+PlanarInfo describePlanar(const Scene& scene, int node);
+// The reflection in `plane` (xyz unit normal, w = -dot(normal, a point on it)) as an affine map.
+glm::mat4 reflectionMatrix(glm::vec4 plane);
+// `view` reflected in `plane`, at width x height, with an oblique near plane (Lengyel 2005,
+// "Oblique View Frustum Depth Projection and Clipping", adapted to reversed-Z with an infinite
+// far plane) `clipOffset` metres in front of the plane, so nothing on or behind the mirror is
+// drawn. The plane's points project where `view` projects them (the reflection fixes them), so
+// the planar image is read at the view's own UV. Returns false (camera untouched) when the view
+// is orthographic or its eye is not in front of the plane.
+bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t width, uint32_t height,
+                    float clipOffset, render::CameraState& out);
 
 // Orders probes as the blend walks them: higher `order` first, then the smaller volume.
 void sortForBlending(std::vector<ProbeInfo>& probes);
@@ -135,8 +172,15 @@ public:
     bool moveProbe(int node, const glm::mat4& world);
     // Whether a moved probe or CMO is still being captured again.
     bool relocating() const;
+    // Renders every planar probe whose plane faces `view`'s eye from the mirrored camera, in a
+    // frame graph of its own, submitted and finished before it returns (call it before the
+    // frame's graph runs, each frame: a planar image is view-dependent). The renderer keeps one
+    // frame-constant buffer and a graph has one size, so the mirrored views cannot share the
+    // frame's graph here; on a GPU they would, without the wait.
+    void renderPlanar(const render::FrameInputs& view);
     // Imports the cube array and the records into `graph` (count 0 when `enabled` is false), and
-    // the CMO arrays (count 0 when `cmos` is false).
+    // the CMO arrays (count 0 when `cmos` is false), and the planar images of the last
+    // renderPlanar (count 0 when `enabled` is false).
     ProbeSet addPasses(FrameGraph& graph, bool enabled = true, bool cmos = true);
     // probes.debug: the blend or the winning probe per pixel (DebugView), scaled by 1 / exposure
     // like every debug view; returns the image that replaces the lit one.
@@ -156,6 +200,9 @@ public:
     double captureMs() const;
     size_t cmoFacesCaptured() const;
     double cmoCaptureMs() const;
+    // The scene's planar probes, and the GPU milliseconds of the last renderPlanar.
+    const std::vector<PlanarInfo>& planars() const;
+    double planarMs() const;
 
     struct Impl;
 
