@@ -7,6 +7,9 @@
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
 #include "speculum/gpu/resources.hpp"
+#include "speculum/probes/probes.hpp"
+
+#include <glm/gtx/quaternion.hpp>
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -211,6 +214,7 @@ void EditorApp::frameSelection() {
 }
 
 void EditorApp::addProbeAtPick(ProbeKind kind) {
+    if (kind == ProbeKind::Planar) return addPlanarAtPick();
     const bool cmo = kind == ProbeKind::Cmo;
     if (!pick_.hit) {
         status_ = cmo ? "add CMO: click a surface in the viewport first" : "add probe: click a surface in the viewport first";
@@ -234,6 +238,46 @@ void EditorApp::addProbeAtPick(ProbeKind kind) {
     status_ = cmo ? "added a CMO at the picked point" : "added a probe at the picked point";
     std::printf("speculum-editor: added %s at %.4f %.4f %.4f\n", doc_.scene().nodes.back().name.c_str(), at.x, at.y,
                 at.z);
+}
+
+void EditorApp::addPlanarAtPick() {
+    if (!pick_.hit) {
+        status_ = "add planar probe: click a flat surface in the viewport first";
+        return;
+    }
+    int count = 0;
+    for (const Node& n : doc_.scene().nodes) count += n.probe && n.probe->kind == ProbeKind::Planar ? 1 : 0;
+    if (size_t(count) >= probes::kMaxPlanarProbes) {
+        status_ = "a scene holds at most " + std::to_string(probes::kMaxPlanarProbes) + " planar probes";
+        return;
+    }
+    // The plane: through the picked point, its normal the picked surface's. Its rectangle: the
+    // picked object's bounds seen along the normal (a floor's whole extent), centred on them.
+    const glm::vec3 n = glm::normalize(pick_.normal);
+    const glm::quat rotation = glm::rotation(glm::vec3(0.0f, 1.0f, 0.0f), n);
+    const glm::vec3 ax = rotation * glm::vec3(1.0f, 0.0f, 0.0f), az = rotation * glm::vec3(0.0f, 0.0f, 1.0f);
+    glm::vec3 lo = pick_.position - 0.5f, hi = pick_.position + 0.5f;
+    if (pick_.node >= 0) {
+        lo = hi = pick_.position;
+        growByMeshBounds(doc_.scene(), pick_.node, lo, hi);
+    }
+    glm::vec3 at = 0.5f * (lo + hi);
+    at -= glm::dot(at - pick_.position, n) * n;
+    ReflectionProbe probe;
+    probe.kind = ProbeKind::Planar;
+    probe.blendDistance = 0.0f;
+    probe.resolution = 0;  // half the view's height
+    probe.extents = glm::vec3(0.05f, 0.05f, 1.0f);
+    for (int k = 0; k < 8; ++k) {
+        glm::vec3 corner((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+        probe.extents.x = std::max(probe.extents.x, std::abs(glm::dot(corner - at, ax)));
+        probe.extents.y = std::max(probe.extents.y, std::abs(glm::dot(corner - at, az)));
+    }
+    doc_.execute(addProbe(doc_, "planar." + std::to_string(count + 1), at, probe, rotation));
+    select(int(doc_.scene().nodes.size() - 1));
+    status_ = "added a planar probe on the picked surface";
+    std::printf("speculum-editor: added %s at %.4f %.4f %.4f, extents %.3f x %.3f m\n",
+                doc_.scene().nodes.back().name.c_str(), at.x, at.y, at.z, probe.extents.x, probe.extents.y);
 }
 
 void EditorApp::deleteSelectedProbe() {
@@ -371,6 +415,8 @@ void EditorApp::runScriptAction(const nlohmann::json& a) {
                 addProbeAtPick();
             else if (act == "add_cmo")
                 addProbeAtPick(ProbeKind::Cmo);
+            else if (act == "add_planar")
+                addProbeAtPick(ProbeKind::Planar);
             else if (act == "delete_probe")
                 deleteSelectedProbe();
             else if (act == "bake_all")

@@ -57,6 +57,8 @@ public:
 
     // What the UI and the script both call.
     void addProbeAtPick(ProbeKind kind = ProbeKind::LocalCubemap);
+    // A planar probe on the picked surface's plane, spanning the picked object's bounds there.
+    void addPlanarAtPick();
     void deleteSelectedProbe();
     void save();
     void saveAs(const std::filesystem::path& path);

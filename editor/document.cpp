@@ -41,11 +41,13 @@ void updateWorld(Scene& scene, int node) {
 
 // ---- commands -----------------------------------------------------------------------------
 
-Command addProbe(const Document& doc, const std::string& name, glm::vec3 position, const ReflectionProbe& probe) {
+Command addProbe(const Document& doc, const std::string& name, glm::vec3 position, const ReflectionProbe& probe,
+                 glm::quat rotation) {
     (void)doc;
     Node node;
     node.name = name;
     node.translation = position;
+    node.rotation = rotation;
     node.probe = probe;
     // A new root node at the end: undo in stack order always removes the last node again.
     return {"add probe",

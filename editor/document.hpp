@@ -30,7 +30,8 @@ struct Command {
 };
 
 // Command factories: each captures the before and after values it needs.
-Command addProbe(const Document& doc, const std::string& name, glm::vec3 position, const ReflectionProbe& probe);
+Command addProbe(const Document& doc, const std::string& name, glm::vec3 position, const ReflectionProbe& probe,
+                 glm::quat rotation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
 Command moveNode(const Document& doc, int node, glm::vec3 translation);
 Command setProbe(const Document& doc, int node, const ReflectionProbe& probe);  // resize, shape, ...
 Command deleteProbe(const Document& doc, int node);

@@ -144,22 +144,27 @@ const SettingFields<ReflectionProbe>& probeTable() {
     using P = ReflectionProbe;
     // engine/scene/EXTENSIONS.md, SPECULUM_reflection_probe.
     static const SettingFields<P> table({
-        bind<&P::kind>({"probe.kind", T::Enum, "", 0, 1, 0, choices(kProbeKindNames),
-                        "A local cubemap, or a cubemap object (CMO) for tracing."}),
+        bind<&P::kind>({"probe.kind", T::Enum, "", 0, 2, 0, choices(kProbeKindNames),
+                        "A local cubemap, a cubemap object (CMO) for tracing, or a planar probe (a flat mirror)."}),
         bind<&P::shape>({"probe.shape", T::Enum, "", 0, 1, 0, choices(kProbeShapeNames), "Influence and parallax shape."}),
         bindAccess<P>({"probe.extents_x", T::Float, "m", 0.01, 100, 1, {},
-                       "Box half-extent along the node's x (sphere: the radius)."},
+                       "Box half-extent along the node's x (sphere: the radius; planar: the half width)."},
                       [](auto& p) -> auto& { return p.extents.x; }),
-        bindAccess<P>({"probe.extents_y", T::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's y."},
+        bindAccess<P>({"probe.extents_y", T::Float, "m", 0.01, 100, 1, {},
+                       "Box half-extent along the node's y (planar: the half depth along the node's z)."},
                       [](auto& p) -> auto& { return p.extents.y; }),
         bindAccess<P>({"probe.extents_z", T::Float, "m", 0.01, 100, 1, {}, "Box half-extent along the node's z."},
                       [](auto& p) -> auto& { return p.extents.z; }),
         bind<&P::blendDistance>({"probe.blend_distance", T::Float, "m", 0, 10, 0.5, {},
                                  "Width of the fade at the influence's border."}),
         {{"probe.resolution", T::Enum, "px", 0, 6, 4, {"8", "16", "32", "64", "128", "256", "512"},
-          "Cubemap face size in texels."},
+          "Cubemap face size in texels; a planar probe's image height (8: half the view's)."},
          nullptr,
-         [](P& p, double v) { p.resolution = 8u << std::clamp(int(v), 0, 6); },
+         // A planar probe's height is at least 16 px: the first choice stands for its default (0).
+         [](P& p, double v) {
+             int i = std::clamp(int(v), 0, 6);
+             p.resolution = p.kind == ProbeKind::Planar && i == 0 ? 0u : 8u << i;
+         },
          [](const P& p) { return std::log2(double(std::max(8u, p.resolution))) - 3.0; }},
         bind<&P::update>({"probe.update", T::Enum, "", 0, 3, 0, choices(kProbeUpdateNames),
                           "When the probe captures: once at start, when asked, every frame, or one face per frame."}),

@@ -19,7 +19,8 @@ namespace {
 
 std::string nodeLabel(const Node& n, size_t index) {
     std::string label = n.name.empty() ? "node " + std::to_string(index) : n.name;
-    if (n.probe) label += n.probe->kind == ProbeKind::Cmo ? "  [CMO]" : "  [probe]";
+    if (n.probe)
+        label += n.probe->kind == ProbeKind::Cmo ? "  [CMO]" : n.probe->kind == ProbeKind::Planar ? "  [planar]" : "  [probe]";
     if (n.camera >= 0) label += "  [camera]";
     if (n.light >= 0) label += "  [light]";
     return label;
@@ -52,6 +53,8 @@ void EditorApp::drawMenuBar() {
         ImGui::Separator();
         if (ImGui::MenuItem("Add probe at the picked point", nullptr, false, pick_.hit)) addProbeAtPick();
         if (ImGui::MenuItem("Add CMO at the picked point", nullptr, false, pick_.hit)) addProbeAtPick(ProbeKind::Cmo);
+        if (ImGui::MenuItem("Add planar probe on the picked surface", nullptr, false, pick_.hit))
+            addProbeAtPick(ProbeKind::Planar);
         if (ImGui::MenuItem("Delete probe", "Del")) deleteSelectedProbe();
         ImGui::EndMenu();
     }
@@ -129,6 +132,8 @@ void EditorApp::drawInspector() {
         if (ImGui::SmallButton("Add probe here")) addProbeAtPick();
         ImGui::SameLine();
         if (ImGui::SmallButton("Add CMO here")) addProbeAtPick(ProbeKind::Cmo);
+        ImGui::SameLine();
+        if (ImGui::SmallButton("Add planar here")) addProbeAtPick(ProbeKind::Planar);
     }
     if (pixelInspector_) {
         const PixelInfo& p = viewport_->lastPixel();

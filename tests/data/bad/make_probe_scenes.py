@@ -85,6 +85,12 @@ def cmo(**fields):
     return ext
 
 
+def planar(**fields):
+    ext = {"kind": "planar", "extents": [2, 2]}
+    ext.update(fields)
+    return ext
+
+
 SCENES = {
     # Not a power of two: the loader rejects it, naming the node and `resolution`.
     "probe_resolution_not_pow2.gltf": [("probe.npot", probe(resolution=100))],
@@ -98,6 +104,10 @@ SCENES = {
     "cmo_resolution_small.gltf": [("cmo.tiny", cmo(resolution=8))],
     # Nine CMOs: the tracer takes eight.
     "cmo_too_many.gltf": [("cmo.%d" % i, cmo()) for i in range(9)],
+    # Planar probes (issue 24): a zero extent, a height out of [16, 4096], five where four fit.
+    "planar_zero_extent.gltf": [("planar.flat", planar(extents=[2, 0]))],
+    "planar_resolution.gltf": [("planar.tiny", planar(resolution=8))],
+    "planar_too_many.gltf": [("planar.%d" % i, planar()) for i in range(5)],
 }
 
 # Scenes with their own geometry or placement: name -> (probes, scene() keywords).

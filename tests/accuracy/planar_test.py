@@ -1,0 +1,172 @@
+#!/usr/bin/env python3
+"""Planar probe tests against the converged reference (label accuracy; thresholds.json "planar"):
+
+    planar_test.py TOOLS... --check floor|off_plane|cmo_floor --out DIR --cache DIR
+
+floor      mirror_floor (tests/accuracy/make_planar_scene.py: a chrome sphere standing on a sharp
+           mirror floor in a sealed room) at every view of the rule: the floor's pixels (normal
+           within 0.8 degrees of up) reach psnr_min against the converged reference with the
+           scene's planar probe; the same without it is printed beside.
+off_plane  the first frame (no reflection fed back yet) with and without the planar probe: every
+           reflective pixel off the floor's plane is the same, within max_abs_diff.
+cmo_floor  the scene without its planar probe, with and without a CMO above the sphere (issue 24
+           part 3): the floor's pixels are never worse with the CMO, by more than max_loss_db.
+"""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "bench"))
+sys.path.insert(0, str(HERE.parent / "capture"))
+import speculum_bench as bench  # noqa: E402
+from accuracy_args import tool_parser  # noqa: E402
+from stripes_test import load  # noqa: E402
+
+SCENE = "mirror_floor"
+PLANAR_NODE = "reflection_probe.floor"
+FLOOR_NY = 0.9999  # cos(0.8 degrees): the floor, not the sphere's top (under a pixel there)
+
+
+def scenes(out):
+    """The generated scene, and its variants: without the planar probe, and that with a CMO."""
+    base = out / "scene"
+    subprocess.run([sys.executable, str(HERE / "make_planar_scene.py"), str(base)], check=True)
+    doc = json.loads((base / f"{SCENE}.gltf").read_text())
+    for n in doc["nodes"]:
+        if n.get("name") == PLANAR_NODE:
+            del n["extensions"]
+    (base / f"{SCENE}.no_planar.gltf").write_text(json.dumps(doc, indent=1))
+    return {"planar": base / f"{SCENE}.gltf", "no_planar": base / f"{SCENE}.no_planar.gltf"}
+
+
+def with_cmo(doc_path, pos, out):
+    sys.path.insert(0, str(bench.SOURCE / "modules" / "probes" / "tools"))
+    from placement.edit import dump, edited_document, write_atomic
+    doc = json.loads(doc_path.read_text())
+    cmos = [{"pos": pos, "res": 128, "order": 0, "radius": 1.0}]
+    path = doc_path.parent / f"{SCENE}.cmo.gltf"
+    write_atomic(path, dump(edited_document(doc, cmos, doc_path.parent, doc_path.parent)))
+    return path
+
+
+def floor_band(tools, view, size, out):
+    """A one-channel image of the normal's y, which splits the scores into the floor and the rest."""
+    d = out / f"{view['camera']}.normal"
+    d.mkdir(parents=True, exist_ok=True)
+    cmd = [tools.capture, "--scene", str(view["file"]), "--camera", view["camera"], "--size", size,
+           "--warmup", "0", "--aov", "normal", "--out", str(d)]
+    if bench.run(cmd, d / "log.txt") != 0:
+        bench.fail(f"normal capture failed; see {d / 'log.txt'}", 1)
+    band = d / "normal_y.exr"
+    subprocess.run(["oiiotool", str(bench.last_frame(d, "normal")), "--ch", "G", "-o", str(band)], check=True)
+    return band
+
+
+def floor_psnr(tools, image, ref_dir, exposure, band):
+    cmd = [tools.metrics, "compare", "--test", str(image), "--ref", str(ref_dir / "reflection.0000.exr"),
+           "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(image), "--scale", str(exposure),
+           "--band-image", str(band), "--bands", f"{FLOOR_NY},2", "--ref-error", str(ref_dir / "stderror.0000.exr")]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)
+    return json.loads(r.stdout)["bands"][0]
+
+
+def capture(tools, view, size, out, warmup=3):
+    image, _, _, _ = bench.capture(tools, view, size, [], "reflection", {"warmup": warmup, "frames": 1}, out)
+    return image
+
+
+def reference(tools, cam, rule, cache):
+    ref_dir, _ = bench.render_reference(tools, {"scene": SCENE, "camera": cam}, rule["size"], rule["reference"], cache)
+    return ref_dir, json.loads((ref_dir / "reference.json").read_text())["exposure"]
+
+
+def floor(tools, rule, out, cache):
+    files = scenes(out)
+    ok = True
+    for cam in rule["views"]:
+        ref_dir, exposure = reference(tools, cam, rule, cache)
+        band = floor_band(tools, {"file": files["planar"], "camera": cam}, rule["size"], out)
+        got = {}
+        for label, f in files.items():
+            image = capture(tools, {"scene": SCENE, "camera": cam, "file": str(f)}, rule["size"], out / f"{cam}.{label}")
+            got[label] = floor_psnr(tools, image, ref_dir, exposure, band)
+        good = got["planar"]["psnr_db"] >= rule["psnr_min"]
+        print(f"floor {cam}: {got['planar']['psnr_db']:.2f} dB with the planar probe, {got['no_planar']['psnr_db']:.2f} "
+              f"without ({got['planar']['pixels']} floor pixels); must be >= {rule['psnr_min']}"
+              f"{'' if good else '  FAIL'}")
+        ok &= good
+    return ok
+
+
+def off_plane(tools, rule, out, cache):
+    files = scenes(out)
+    ok = True
+    for cam in rule["views"]:
+        tmp = out / f"{cam}.tmp"
+        tmp.mkdir(parents=True, exist_ok=True)
+        _, _, band = load(str(floor_band(tools, {"file": files["planar"], "camera": cam}, rule["size"], out)), str(tmp))
+        ny = next(iter(band.values()))
+        imgs = {}
+        for label, f in files.items():
+            image = capture(tools, {"scene": SCENE, "camera": cam, "file": str(f)}, rule["size"], out / f"{cam}.{label}",
+                            warmup=0)
+            w, h, imgs[label] = load(str(image), str(tmp))
+        a, b = ([d[c] for c in ("R", "G", "B")] for d in (imgs["planar"], imgs["no_planar"]))
+        worst, off, on = 0.0, 0, 0
+        for y in range(h):
+            for x in range(w):
+                if ny[y][x] >= 0.99:  # on (or within 8 degrees of) the plane: the planar probe's
+                    on += 1
+                    continue
+                pa, pb = [ch[y][x] for ch in a], [ch[y][x] for ch in b]
+                if any(pa) or any(pb):
+                    off += 1
+                    worst = max(worst, max(abs(u - v) for u, v in zip(pa, pb)))
+        good = worst <= rule["max_abs_diff"] and off > 0 and on > 0
+        print(f"off_plane {cam}: {off} reflective pixels off the plane differ by at most {worst:.3g} "
+              f"(limit {rule['max_abs_diff']}); {on} on it{'' if good else '  FAIL'}")
+        ok &= good
+    return ok
+
+
+def cmo_floor(tools, rule, out, cache):
+    files = scenes(out)
+    edited = with_cmo(files["no_planar"], rule["cmo"], out)
+    ok = True
+    for cam in rule["views"]:
+        ref_dir, exposure = reference(tools, cam, rule, cache)
+        band = floor_band(tools, {"file": files["planar"], "camera": cam}, rule["size"], out)
+        got = {}
+        for label, f in (("none", files["no_planar"]), ("cmo", edited)):
+            image = capture(tools, {"scene": SCENE, "camera": cam, "file": str(f)}, rule["size"], out / f"{cam}.{label}")
+            got[label] = floor_psnr(tools, image, ref_dir, exposure, band)["psnr_db"]
+        loss = got["none"] - got["cmo"]
+        good = loss <= rule["max_loss_db"]
+        print(f"cmo_floor {cam}: floor {got['cmo']:.2f} dB with a CMO at {rule['cmo']}, {got['none']:.2f} without "
+              f"({-loss:+.2f} dB; at most {rule['max_loss_db']} dB lost){'' if good else '  FAIL'}")
+        ok &= good
+    return ok
+
+
+def main():
+    p = tool_parser()
+    p.add_argument("--check", choices=("floor", "off_plane", "cmo_floor"), required=True)
+    p.add_argument("--cache", required=True)
+    p.add_argument("--out", required=True)
+    a = p.parse_args()
+    rules = json.loads(Path(a.thresholds).read_text())["planar"]
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rule = dict(rules[a.check])
+    for k in ("size", "reference", "views"):
+        rule.setdefault(k, rules[k])
+    ok = {"floor": floor, "off_plane": off_plane, "cmo_floor": cmo_floor}[a.check](a, rule, out, Path(a.cache))
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
