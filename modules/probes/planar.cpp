@@ -28,9 +28,9 @@ struct StorePush {
     glm::mat4 invViewProj;
     glm::vec4 eye;
     glm::vec4 plane;
-    glm::uvec4 info;
+    glm::vec4 axisX, axisZ;  // the rectangle's axes over its half extents, with their offsets
 };
-static_assert(sizeof(StorePush) == 112);
+static_assert(sizeof(StorePush) == 128, "lavapipe's push constant limit");
 
 std::string nodeName(const Scene& scene, int node) {
     const std::string& n = scene.nodes[size_t(node)].name;
@@ -173,7 +173,7 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
             d.lit = pb.read(cap.lit, TextureUsage::Sampled);
             d.out = pb.write(images, TextureUsage::StorageWrite, target);
         },
-        [this, &s, cam = view.camera, plane = info.plane, target](const Store& d, PassContext& pc) {
+        [this, &s, cam = view.camera, &info, target](const Store& d, PassContext& pc) {
             s.store.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.depth), nearest)
@@ -181,7 +181,9 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
                 .sampled("litTex", pc.view(d.lit), nearest)
                 .storage("outImage", pc.view(d.out, target, VK_IMAGE_VIEW_TYPE_2D))
                 .push(ctx, pc.cmd(), s.store);
-            StorePush p{cam.invViewProj, glm::vec4(cam.position, 0.0f), plane, glm::uvec4(cam.width, cam.height, 0u, 0u)};
+            const glm::vec3 x = info.axisX / info.probe.extents.x, z = info.axisZ / info.probe.extents.y;
+            StorePush p{cam.invViewProj, glm::vec4(cam.position, 0.0f), info.plane,
+                        glm::vec4(x, -glm::dot(x, info.origin)), glm::vec4(z, -glm::dot(z, info.origin))};
             vkCmdPushConstants(pc.cmd(), s.store.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
             vkCmdDispatch(pc.cmd(), (cam.width + 7) / 8, (cam.height + 7) / 8, 1);
         });
