@@ -87,6 +87,14 @@ def _primitive_triangles(doc, buffers, mesh, prim):
     return tris
 
 
+def _check_planar_ext(n, ext):
+    """A planar probe (issue 24): two positive extents, an optional image height in [16, 4096]."""
+    require(len(ext["extents"]) == 2 and all(finite(c) and c > 0 for c in ext["extents"]),
+            "planar probe %s: extents" % n["name"])
+    res = ext.get("resolution", 16)
+    require(isinstance(res, int) and 16 <= res <= 4096, "planar probe %s: resolution %r" % (n["name"], res))
+
+
 def _check_probe_ext(n, ext):
     require(ext["kind"] in KIND.names and ext["shape"] in SHAPE.names and ext["update"] in UPDATE.names,
             "bad probe enum on " + n["name"])
@@ -130,7 +138,9 @@ class SceneCheck:
         cast_tris = []
         for i, n in enumerate(self.nodes):
             ext = n.get("extensions", {}).get(PROBE_EXT)
-            if ext is not None:
+            if ext is not None and ext.get("kind") == KIND.planar:
+                _check_planar_ext(n, ext)  # a plane, not a capture point: no probe checks below
+            elif ext is not None:
                 _check_probe_ext(n, ext)
                 self.probes.append((n["name"], i, ext))
             if "mesh" not in n:

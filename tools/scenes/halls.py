@@ -68,6 +68,11 @@ def build_gallery():
     # every wall). 256 texels a face: 0.35 degrees a texel, about one pixel of a 320x180 view
     # (yfov 0.95 rad / 180 = 0.30 degrees), for the mirror floor and sphere.
     g.box_probe("reflection_probe.hall", (0.0, H / 2, 0.0), [W, H / 2, D], 0.5, 256)
+    # A planar probe on the whole floor (issue 24): its four bands are one plane, each read at
+    # its roughness's mip. The floor's reflection of the chrome sphere's underside, which no
+    # camera sees and the box probe puts on the far wall, was a black hole in the main view, and
+    # screen space's false hits drew sawtooth streaks beside the pillar's and the torus's.
+    g.probe("planar.floor", (0.0, 0.0, 0.0), kind=KIND.planar, extents=[W, D])
 
     g.camera("main", (0.5, 1.7, 3.6), (-0.8, 0.7, -2.0))
     g.camera("floor_grazing", (3.6, 0.3, 3.0), (-3.0, 0.55, -1.6))

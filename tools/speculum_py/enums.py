@@ -14,6 +14,6 @@ def _enum(*names):
 
 
 MODE = _enum("off", "screen_space", "probes_only", "local_cubemap_only")  # SPECULUM_reflections.mode
-KIND = _enum("local_cubemap", "cmo")  # SPECULUM_reflection_probe.kind
+KIND = _enum("local_cubemap", "cmo", "planar")  # SPECULUM_reflection_probe.kind
 SHAPE = _enum("box", "sphere")  # SPECULUM_reflection_probe.shape
 UPDATE = _enum("once", "on_demand", "every_frame", "time_sliced")  # SPECULUM_reflection_probe.update
