@@ -64,13 +64,14 @@ vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out v
         delta += (evalBRDFCos(n, vNew, l, albedo.rgb, albedo.a, nr.w) - evalBRDFCos(n, vCmo, l, albedo.rgb, albedo.a, nr.w)) *
                  radiance;
     }
+    // Filtered at the refined hit's direction, a mirror's too (mip 0 is bilinear): the hit's
+    // place is continuous (cmoRefine), and the texel it falls in (nearest) put an edge of the room
+    // a texel off: mirror_floor's floor reflected the ceiling where the wall's top 3 mm lay
+    // (issue 24, "sub-pixel registration"; MEASUREMENTS.md).
     float texelWorld = length(u) * c.params.w;
     float mip = log2(max(cone / max(texelWorld, 1e-6), 1.0));
-    vec3 captured = lit.rgb;
-    if (mip > 0.5) {
-        float top = float(base) + c.params.z - 1.0;
-        captured = textureLod(cmoRadiance, vec4(u, c.params.x / 6.0), min(float(base) + mip, top)).rgb;
-    }
+    float top = float(base) + c.params.z - 1.0;
+    vec3 captured = textureLod(cmoRadiance, vec4(u, c.params.x / 6.0), min(float(base) + mip, top)).rgb;
     return max(captured + delta, vec3(0.0));
 }
 
