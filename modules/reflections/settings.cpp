@@ -56,7 +56,7 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "reflections of reflections accumulate over frames."}),
         bind<&R::probes>({"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
-         "chain; off: what screen space leaves goes to the sky."}),
+         "chain, and planar probes on their planes; off: what screen space leaves goes to the sky."}),
         bind<&R::cmos>({"reflections.cmos", T::Bool, "", 0, 1, 1, {},
          "Cubemap-tracing objects (CMOs, SPECULUM_reflection_probe kind cmo) between screen space "
          "and the local probes in the fallback chain: what screen space leaves is traced through "

@@ -82,7 +82,7 @@ def check_args(args):
     if not res or any(r < 32 or r > 4096 or r & (r - 1) for r in res):
         raise InputError(f"--resolutions {args.resolutions}: each must be a power of two in [32, 4096]", 2)
     args.resolutions_list = sorted(set(res))
-    for name, lo in (("max_cmos", 1), ("spp", 0), ("tries", 1), ("move_tries", 0), ("warmup", 0), ("frames", 1),
+    for name, lo in (("max_cmos", 1), ("max_planar", 0), ("spp", 0), ("tries", 1), ("move_tries", 0), ("warmup", 0), ("frames", 1),
                      ("bounces", 1), ("candidates", 1), ("grid", 4)):
         if getattr(args, name) < lo:
             raise InputError(f"--{name.replace('_', '-')} {getattr(args, name)}: must be at least {lo}", 2)
@@ -146,6 +146,9 @@ def main(argv=None):
     pl.add_argument("--views", help="comma list of camera names (default: every camera of the scene)")
     pl.add_argument("--size", default="240x135", help="render size WxH (default 240x135)")
     pl.add_argument("--max-cmos", type=int, default=4, help="at most this many CMOs (default 4)")
+    pl.add_argument("--max-planar", type=int, default=4,
+                    help="planar probes tried first, one per large flat reflector, at most this many (default 4, "
+                         "the engine's limit; 0: none)")
     pl.add_argument("--resolutions", default="64,128,256",
                     help="cube face sizes to choose from, powers of two >= 32 (default 64,128,256); "
                          "CMOs are added at the largest and lowered while the budget holds")

@@ -27,10 +27,11 @@ def relocate_uri(uri, src_dir, dst_dir, percent=True):
     return urllib.parse.quote(rel, safe="/._-~") if percent else rel
 
 
-def edited_document(doc, cmos, src_dir, dst_dir, kind=KIND.cmo, bin_uri=None):
+def edited_document(doc, cmos, src_dir, dst_dir, kind=KIND.cmo, bin_uri=None, extra_nodes=()):
     """A deep copy of doc with one node per CMO appended (to "nodes" and to the active scene's
     root list), the extension listed in extensionsUsed, relative file references rewritten for
-    dst_dir; every other key is kept. bin_uri: the uri of a GLB's BIN chunk written as a file."""
+    dst_dir; every other key is kept. bin_uri: the uri of a GLB's BIN chunk written as a file.
+    extra_nodes: whole nodes appended first (the planar probes, placement/planar.py)."""
     out = json.loads(json.dumps(doc))
     for i, b in enumerate(out.get("buffers", [])):
         if isinstance(b, dict):
@@ -45,7 +46,7 @@ def edited_document(doc, cmos, src_dir, dst_dir, kind=KIND.cmo, bin_uri=None):
         ex = sc.get("extras") if isinstance(sc, dict) else None
         if isinstance(ex, dict) and isinstance(ex.get("environment"), str):
             ex["environment"] = relocate_uri(ex["environment"], src_dir, dst_dir, percent=False)
-    if not cmos:
+    if not cmos and not extra_nodes:
         return out
     nodes = out.setdefault("nodes", [])
     taken = {n.get("name") for n in nodes if isinstance(n, dict)}
@@ -55,6 +56,14 @@ def edited_document(doc, cmos, src_dir, dst_dir, kind=KIND.cmo, bin_uri=None):
             out["scenes"] = [{"nodes": list(roots)}]
             out["scene"] = 0
             index = 0
+    for extra in extra_nodes:
+        node = json.loads(json.dumps(extra))
+        while node["name"] in taken:
+            node["name"] += "_"
+        taken.add(node["name"])
+        nodes.append(node)
+        if index is not None:
+            out["scenes"][index].setdefault("nodes", []).append(len(nodes) - 1)
     k = 0
     for c in cmos:
         while f"cmo.{k}" in taken:

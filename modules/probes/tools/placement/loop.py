@@ -12,6 +12,7 @@ from .candidates import candidates, marginal_rank, reflection_samples
 from .edit import dump, edited_document, write_atomic
 from .errors import InputError
 from .measure import Measurer, config_entry, fmt_pos
+from .planar import flat_reflectors, planar_nodes
 from .report import write_report
 from .scene import Geometry, load_document, resolve_views
 
@@ -27,12 +28,14 @@ def with_orders(cmos):
 class Search:
     """The configuration so far (`current`, measured as `cur`) and the steps that led to it."""
 
-    def __init__(self, args, meas, cands, resolutions, log):
+    def __init__(self, args, meas, cands, resolutions, log, planes=()):
         self.args, self.meas, self.cands, self.log = args, meas, cands, log
+        self.planes = list(planes)  # flat reflectors: planar probe proposals, tried before any CMO
+        self.planar_seen = set()    # the reflected samples the accepted planar probes cover
         self.resolutions = resolutions
         self.top = resolutions[-1]
         self.steps, self.step_no = [], 0
-        self.planned = 1 + args.max_cmos * (args.tries + args.move_tries) + args.max_cmos * (1 + len(resolutions))
+        self.planned = 1 + min(len(self.planes), args.max_planar) + args.max_cmos * (args.tries + args.move_tries) + args.max_cmos * (1 + len(resolutions))
         self.current, self.cur, self.baseline = [], None, None
         self.gains = {}
 
@@ -43,6 +46,7 @@ class Search:
         self.log(f"placement: step {step_no}/{max(self.planned, step_no)} {action} {detail}: {r['mean']:.1f} dB"
                  f"{delta}, {r['ms']:.0f} ms{'' if accepted else ' (rejected)'}")
         self.steps.append({"step": step_no, "action": action, "detail": detail, "count": len(cmos),
+                           "planar": len(self.meas.planars),
                            "resolutions": [c["res"] for c in cmos], "cmos": config_entry(cmos),
                            "mean_psnr_db": r["mean"], "per_view_psnr_db": r["per_view"], "reflection_ms": r["ms"],
                            "accepted": accepted, "seconds": r["seconds"]})
@@ -62,12 +66,27 @@ class Search:
             self.log(f"placement: budget {args.budget_db:.2f} dB (baseline {self.baseline['mean']:.2f} + "
                      f"{args.gain_db:g})")
 
+    def add_planar(self):
+        """PLANAR: each large flat reflector as a planar probe (exact for a flat mirror), kept when
+        it gains; the CMOs are then ranked by what the kept ones leave."""
+        for plane in self.planes[:self.args.max_planar]:
+            trial = self.meas.planars + [plane]
+            r = self.meas.measure(self.current, trial)
+            ok = r["mean"] >= self.cur["mean"] + IMPROVE_DB
+            self.record("planar", f"planar probe at {fmt_pos(plane['origin'])} {plane['extents'][0]:.2f} x "
+                        f"{plane['extents'][1]:.2f} m ({plane['area']:.1f} m^2 of reflector)", self.current, r, ok,
+                        self.cur["mean"])
+            if ok:
+                self.meas.planars = trial
+                self.cur = r
+                self.planar_seen |= plane["covered"]
+
     def add_and_move(self):
         """ADD (and MOVE the one added) until the budget is met."""
         args, meas, top = self.args, self.meas, self.top
         while not self.meets(self.cur) and len(self.current) < args.max_cmos:
             current, cur = self.current, self.cur
-            chosen_seen = set().union(*[c["seen"] for c in current]) if current else set()
+            chosen_seen = set().union(self.planar_seen, *[c["seen"] for c in current])
             pool = marginal_rank(self.cands, chosen_seen, {c["rank"] for c in current})[:args.tries]
             if not pool:
                 self.log("placement: no candidate left to add")
@@ -175,7 +194,11 @@ def find_candidates(args, doc, buffers, views, src, log):
     for c in cands[:8]:
         log(f"placement:   candidate {c['rank']}: at {fmt_pos(c['pos'])} off {fmt_pos(c['surface'])}, "
             f"sees {c['area']:.1f} of the reflected area (+{c['gain']:.1f} new)")
-    return cands
+    planes = flat_reflectors(geo, doc, samples) if args.max_planar > 0 else []
+    for p in planes[:4]:
+        log(f"placement:   flat reflector {p['rank']}: {p['area']:.1f} m^2 at {fmt_pos(p['origin'])}, "
+            f"{p['weight']:.1f} of the reflected weight")
+    return cands, planes
 
 
 def write_outputs(args, src, doc, glb_bin, view_names, cands, search, meas, t_start, log):
@@ -189,7 +212,7 @@ def write_outputs(args, src, doc, glb_bin, view_names, cands, search, meas, t_st
         write_atomic(bin_path, data=glb_bin)
         bin_uri = urllib.parse.quote(bin_path.name, safe="/._-~")
     final_doc = edited_document(doc, current, str(src.resolve().parent), str(out_path.resolve().parent),
-                                args.kind, bin_uri)
+                                args.kind, bin_uri, planar_nodes(meas.planars))
     write_atomic(out_path, text=dump(final_doc))
     report = {"scene": str(src), "out": str(out_path), "budget_db": args.budget_db,
               "budget": "mean PSNR over the views >= budget_db (reflection AOV, reflective pixels" +
@@ -197,13 +220,16 @@ def write_outputs(args, src, doc, glb_bin, view_names, cands, search, meas, t_st
               "views": view_names, "size": args.size, "spp": args.spp, "reference": f"{args.spp} spp" if args.spp else "converged", "kind": args.kind, "met": met,
               "baseline": {"mean_psnr_db": baseline["mean"], "per_view_psnr_db": baseline["per_view"],
                            "reflection_ms": baseline["ms"]},
-              "final": {"count": len(current), "cmos": config_entry(current), "mean_psnr_db": cur["mean"],
+              "final": {"count": len(current), "cmos": config_entry(current),
+                        "planar": [{"origin": p["origin"], "rotation": p["rotation"], "extents": p["extents"]}
+                                   for p in meas.planars], "mean_psnr_db": cur["mean"],
                         "per_view_psnr_db": cur["per_view"], "reflection_ms": cur["ms"]},
               "candidates": [{"rank": c["rank"], "pos": list(c["pos"]), "surface": list(c["surface"]),
                               "area": c["area"], "gain": c["gain"]} for c in cands],
               "measurements": meas.count, "seconds": time.monotonic() - t_start, "steps": search.steps}
     write_report(args, report)
-    summary = (f"{len(current)} CMO{'s' if len(current) != 1 else ''} "
+    planar = f"{len(meas.planars)} planar probe{'s' if len(meas.planars) != 1 else ''} and " if meas.planars else ""
+    summary = (f"{planar}{len(current)} CMO{'s' if len(current) != 1 else ''} "
                f"({', '.join(str(c['res']) for c in current) or 'none'} px): {cur['mean']:.2f} dB over "
                f"{len(view_names)} view(s) against the budget {args.budget_db:g} dB "
                f"(baseline {baseline['mean']:.2f} dB), {meas.count} measurements in {report['seconds']:.0f} s")
@@ -219,13 +245,14 @@ def place(args, tools, log):
     doc, buffers, glb_bin = load_document(src)
     view_names, views = resolve_views(args, doc, src)
     t_start = time.monotonic()
-    cands = find_candidates(args, doc, buffers, views, src, log)
+    cands, planes = find_candidates(args, doc, buffers, views, src, log)
     resolutions = sorted(args.resolutions_list)
     work = Path(tempfile.mkdtemp(prefix=".placement-", dir=str(Path(args.out).resolve().parent)))
     try:
         meas = Measurer(args, tools, doc, src, glb_bin, view_names, args.kind, work, log)
-        search = Search(args, meas, cands, resolutions, log)
+        search = Search(args, meas, cands, resolutions, log, planes)
         search.run_baseline()
+        search.add_planar()
         search.add_and_move()
         search.drop()
         search.order()

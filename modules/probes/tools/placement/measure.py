@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 from .edit import dump, edited_document
+from .planar import planar_nodes
 
 
 class Measurer:
@@ -17,6 +18,7 @@ class Measurer:
         self.bench, self.args, self.tools, self.doc, self.src = bench, args, tools, doc, src
         self.view_names, self.kind, self.work, self.log = view_names, kind, work, log
         self.count, self.cache = 0, {}
+        self.planars = []  # the accepted planar probes, in every measured configuration
         self.bin_uri = None
         if glb_bin is not None:
             (work / "scene_glb.bin").write_bytes(glb_bin)
@@ -69,11 +71,15 @@ class Measurer:
         except SystemExit as e:  # the bench's fail(): its message is already on stderr
             raise RuntimeError(f"{what} failed (exit {e.code})")
 
-    def key(self, cmos):
-        return json.dumps([[[round(x, 5) for x in c["pos"]], c["res"], c["order"]] for c in cmos])
+    def key(self, cmos, planars=None):
+        planars = self.planars if planars is None else planars
+        return json.dumps([[[[round(x, 5) for x in c["pos"]], c["res"], c["order"]] for c in cmos],
+                           [p["rank"] for p in planars]])
 
-    def measure(self, cmos):
-        k = self.key(cmos)
+    def measure(self, cmos, planars=None):
+        """The configuration's scores: `cmos` and the planar probes (the accepted ones by default)."""
+        planars = self.planars if planars is None else planars
+        k = self.key(cmos, planars)
         if k in self.cache:
             return self.cache[k]
         self.count += 1
@@ -82,7 +88,7 @@ class Measurer:
         gltf = folder / "scene.gltf"
         gltf.write_text(dump(edited_document(self.doc, cmos, str(self.src.parent), str(folder), self.kind,
                                              os.path.relpath(self.work / "scene_glb.bin", folder)
-                                             if self.bin_uri else None)))
+                                             if self.bin_uri else None, planar_nodes(planars))))
         per_view, ms_sum = {}, 0.0
         t0 = time.monotonic()
         for v in self.view_names:

@@ -18,7 +18,7 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))
 import placement_scene  # noqa: E402
 import speculum_probes as sp  # noqa: E402  (the command line; it puts tools/ on sys.path)
-from placement import candidates as cand, edit, loop, scene  # noqa: E402
+from placement import candidates as cand, edit, loop, planar, scene  # noqa: E402
 from speculum_py.enums import PROBE_EXT  # noqa: E402
 
 SPHERE_C, SPHERE_R = (0.0, 0.6, -0.6), 0.6
@@ -217,6 +217,35 @@ class Arguments(Scene):
         self.assertEqual((got, "broken.gltf" in err), (3, True), err)
 
 
+class Planar(Scene):
+    def test_a_mirror_floor_is_proposed_as_a_planar_probe(self):
+        # The room's floor is a glossy dielectric (0.08): too dim to propose. As a mirror it is
+        # one plane (y = 0) spanning the lapped floor, 3.02 m each way.
+        self.assertEqual(planar.flat_reflectors(self.geo, self.doc, self.samples), [])
+        doc = json.loads(json.dumps(self.doc))
+        floor = next(m for m in doc["materials"] if m["name"] == "floor")
+        floor["pbrMetallicRoughness"].update(metallicFactor=1.0, roughnessFactor=0.0)
+        samples, _ = cand.reflection_samples(self.geo, doc, self.views, (160, 90), grid=32)
+        planes = planar.flat_reflectors(self.geo, doc, samples)
+        self.assertEqual(len(planes), 1, planes)
+        p = planes[0]
+        self.assertAlmostEqual(p["normal"][1], 1.0, places=5)
+        self.assertAlmostEqual(p["offset"], 0.0, places=5)
+        for got, want in zip(p["origin"], (0.0, 0.0, 0.0)):
+            self.assertAlmostEqual(got, want, places=4)
+        for e in p["extents"]:
+            self.assertAlmostEqual(e, 3.03, places=3)  # 3.02 m and 1 cm of margin
+        self.assertTrue(p["covered"], "the floor's reflected samples are the plane's")
+        # Written as the engine reads it: kind planar, two extents, +Y the plane's normal.
+        node = planar.planar_nodes([p])[0]
+        out = edit.edited_document(doc, [], str(self.path.parent), str(self.path.parent), extra_nodes=[node])
+        added = out["nodes"][-1]
+        self.assertEqual(added["extensions"][PROBE_EXT]["kind"], "planar")
+        self.assertEqual(len(added["extensions"][PROBE_EXT]["extents"]), 2)
+        self.assertEqual(added["rotation"], [0.0, 0.0, 0.0, 1.0])
+        self.assertIn(len(out["nodes"]) - 1, out["scenes"][0]["nodes"])
+
+
 class Loop(Scene):
     """The greedy loop against a synthetic measurer: each candidate adds a fixed gain, scaled
     down at lower resolutions, so the right answer is known."""
@@ -229,11 +258,12 @@ class Loop(Scene):
         class FakeMeasurer:
             def __init__(self, *a, **k):
                 self.count = 0
+                self.planars = []
 
-            def key(self, cmos):
+            def key(self, cmos, planars=None):
                 return json.dumps([[list(c["pos"]), c["res"], c["order"]] for c in cmos])
 
-            def measure(self, cmos):
+            def measure(self, cmos, planars=None):
                 self.count += 1
                 calls.append(cmos)
                 mean = 10.0 + sum(gains.get(c["rank"], 0.3) * factor[c["res"]] for c in cmos)

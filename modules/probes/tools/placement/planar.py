@@ -1,0 +1,88 @@
+"""Planar probe proposals (issue 24): the large flat reflectors, each a plane with the rectangle
+its triangles span, proposed before any CMO is tried there (PLACEMENT.md, "PLANAR")."""
+
+import math
+
+from speculum_py.vec import cross, dot, length, mul, sub
+
+from .scene import material_weight, normalize
+
+MIN_AREA = 1.0        # m^2: a flat reflector smaller than this is left to the CMOs
+MIN_WEIGHT = 0.25     # material_weight: glossy enough that its reflections show a scene
+MAX_Q = 192           # candidates.candidates' sample subset (the same step)
+
+
+def _frame(n):
+    """Unit axes (x, z) on the plane of unit normal n, x as near the world's x as the plane allows."""
+    ref = (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 0.0, 1.0)
+    x = normalize(sub(ref, mul(n, dot(ref, n))))
+    return x, cross(x, n)
+
+
+def _quat(x, y, z):
+    """The glTF rotation [x, y, z, w] of the matrix whose columns are x, y, z."""
+    m00, m11, m22 = x[0], y[1], z[2]
+    tr = m00 + m11 + m22
+    if tr > 0.0:
+        s = math.sqrt(tr + 1.0) * 2.0
+        q = ((y[2] - z[1]) / s, (z[0] - x[2]) / s, (x[1] - y[0]) / s, 0.25 * s)
+    elif m00 > m11 and m00 > m22:
+        s = math.sqrt(1.0 + m00 - m11 - m22) * 2.0
+        q = (0.25 * s, (y[0] + x[1]) / s, (z[0] + x[2]) / s, (y[2] - z[1]) / s)
+    elif m11 > m22:
+        s = math.sqrt(1.0 + m11 - m00 - m22) * 2.0
+        q = ((y[0] + x[1]) / s, 0.25 * s, (z[1] + y[2]) / s, (z[0] - x[2]) / s)
+    else:
+        s = math.sqrt(1.0 + m22 - m00 - m11) * 2.0
+        q = ((z[0] + x[2]) / s, (z[1] + y[2]) / s, 0.25 * s, (x[1] - y[0]) / s)
+    return [round(c, 6) for c in q]
+
+
+def on_plane(p, n, plane, tol=1e-3):
+    return abs(dot(plane["normal"], p) - plane["offset"]) <= tol and dot(n, plane["normal"]) >= 0.999
+
+
+def flat_reflectors(geo, doc, samples, min_area=MIN_AREA):
+    """Planes of reflective triangles (coplanar within 1 cm and 0.6 degrees) covering at least
+    min_area, with the reflected samples that land on them; largest reflected weight first."""
+    mats = doc.get("materials", [])
+    weight = {}
+    groups = {}
+    for a, e1, e2, n, mat in geo.tris:
+        if mat not in weight:
+            weight[mat] = material_weight(mats[mat] if isinstance(mat, int) and 0 <= mat < len(mats) else {})
+        if weight[mat] < MIN_WEIGHT:
+            continue
+        key = tuple(round(c, 2) for c in n) + (round(dot(n, a), 2),)
+        g = groups.setdefault(key, {"normal": n, "offset": dot(n, a), "area": 0.0, "points": []})
+        g["area"] += 0.5 * length(cross(e1, e2))
+        g["points"] += [a, tuple(a[k] + e1[k] for k in range(3)), tuple(a[k] + e2[k] for k in range(3))]
+    out = []
+    for g in groups.values():
+        if g["area"] < min_area:
+            continue
+        n = g["normal"]
+        x, z = _frame(n)
+        us = [dot(p, x) for p in g["points"]]
+        vs = [dot(p, z) for p in g["points"]]
+        cu, cv = 0.5 * (min(us) + max(us)), 0.5 * (min(vs) + max(vs))
+        origin = tuple(x[k] * cu + z[k] * cv + n[k] * g["offset"] for k in range(3))
+        plane = {"normal": n, "offset": g["offset"], "origin": [round(c, 6) for c in origin],
+                 "rotation": _quat(x, n, z), "area": g["area"],
+                 "extents": [round(0.5 * (max(us) - min(us)) + 0.01, 6), round(0.5 * (max(vs) - min(vs)) + 0.01, 6)]}
+        step = max(1, len(samples) // MAX_Q)
+        plane["covered"] = {i for i, s in enumerate(samples[::step]) if on_plane(s["p"], s["n"], plane)}
+        plane["weight"] = sum(s["w"] for s in samples if on_plane(s["p"], s["n"], plane))
+        if plane["weight"] > 0.0:
+            out.append(plane)
+    out.sort(key=lambda p: -p["weight"])
+    for r, p in enumerate(out):
+        p["rank"] = r
+    return out
+
+
+def planar_nodes(planars):
+    """The glTF nodes of the accepted planar probes (edit.edited_document appends them)."""
+    return [{"name": f"planar.{i}", "translation": p["origin"], "rotation": p["rotation"],
+             "extensions": {"SPECULUM_reflection_probe": {"kind": "planar", "extents": p["extents"]}}}
+            for i, p in enumerate(planars)]
