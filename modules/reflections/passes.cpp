@@ -149,12 +149,15 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
 Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in,
                                                       TextureHandle hizPyramid, const ReflectionSettings& s) {
     struct Data {
-        TextureHandle hiz, normal, emissive, guide, hit;
+        TextureHandle hiz, normal, emissive, guide, hit, planar;
+        BufferHandle planarRecords;
     };
     const Resolution res = s.resolution;
     const auto& d = g.addPass<Data>(
         "reflections.trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
+            data.planar = b.read(in.probes.planar.images, TextureUsage::Sampled);
+            data.planarRecords = b.read(in.probes.planar.records, BufferUsage::StorageRead);
             data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -170,7 +173,9 @@ Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const Refle
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             // Full resolution binds the hit image in the guide's place (not written).
             w.storage("hitOut", pc.view(data.hit))
-                .storage("guideOut", pc.view(data.guide.valid() ? data.guide : data.hit));
+                .storage("guideOut", pc.view(data.guide.valid() ? data.guide : data.hit))
+                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
             dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
         });
     return {d.hit, d.guide};
@@ -180,12 +185,14 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
                                     const ReflectionSettings& s, ReflectionOutputs& out) {
     const probes::CmoSet& set = in.probes.cmos;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info;
-        BufferHandle records;
+        TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info, planar;
+        BufferHandle records, planarRecords;
     };
     const auto& d = g.addPass<Data>(
         "reflections.cmo_trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
+            data.planar = b.read(in.probes.planar.images, TextureUsage::Sampled);
+            data.planarRecords = b.read(in.probes.planar.records, BufferUsage::StorageRead);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -212,7 +219,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
                 .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
                 .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
                 .storage("cmoOut", pc.view(data.cmo))
-                .storage("infoOut", pc.view(data.info));
+                .storage("infoOut", pc.view(data.info))
+                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
             dispatch(pc, cmoTrace(half ? Resolution::Half : Resolution::Full, linear), w, pc.extent(data.cmo));
         });
     out.cmo = d.cmo;
@@ -225,8 +234,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
         TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes, planar;
         BufferHandle probeRecords, planarRecords;
     };
-    probes::ProbeSet set = in.probes.cubes.valid() ? in.probes : importNoProbes(g);
-    if (!set.planar.images.valid()) set.planar = importNoPlanar(g);
+    const probes::ProbeSet& set = in.probes;  // dummies where the host gave none (Reflections::addPasses)
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
         [&](PassBuilder& b, Data& data) {

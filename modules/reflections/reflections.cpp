@@ -259,9 +259,18 @@ const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal)
     return *p;
 }
 
-ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& in, const ReflectionSettings& s,
+ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& given, const ReflectionSettings& s,
                                          bool hizView) {
     Impl& m = *impl_;
+    // Without probes (or planar probes) from the host, the passes bind the dummies, imported once.
+    ReflectionInputs in = given;
+    if (!in.probes.cubes.valid()) {
+        probes::CmoSet cmos = in.probes.cmos;
+        in.probes = m.importNoProbes(graph);
+        in.probes.cmos = cmos;
+    } else if (!in.probes.planar.images.valid()) {
+        in.probes.planar = m.importNoPlanar(graph);
+    }
     uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
     uint32_t levels = pyramidLevels(w, h);
     m.ensureHistory(w, h);

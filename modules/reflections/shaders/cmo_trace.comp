@@ -16,6 +16,9 @@
 #define CMO_ATTR_BINDING 10
 #define CMO_ALBEDO_BINDING 11
 #include "probes/shaders/cmo.glsl"
+#define PLANAR_BUFFER_BINDING 16
+#define PLANAR_IMAGES_BINDING 17
+#include "probes/shaders/planar.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -97,8 +100,10 @@ void main() {
     vec3 v = normalize(p - rfm.eye);
     vec3 n = normalize(normalRough.xyz);
     vec3 r = reflect(v, n);
+    // Not for pixels a planar probe serves (reflections.resolve takes its image there).
+    bool planar = rf.planarCount > 0u && depth > 0.0 && planarAt(rf.planarCount, p, n, rfm.eye) >= 0;
     if (rf.cmoCount > 0u && depth > 0.0 && m.reflective && m.traceCmos && m.roughness <= rf.cmoMaxRoughness &&
-        !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
+        !planar && !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
         int iterations = 0;
         int maxIterations = int(rf.cmoMaxIterations);
         int maxBounces = int(rf.cmoBounces);

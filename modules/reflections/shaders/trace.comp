@@ -16,6 +16,9 @@
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
 #include "reflections/shaders/stochastic.glsl"
+#define PLANAR_BUFFER_BINDING 16
+#define PLANAR_IMAGES_BINDING 17
+#include "probes/shaders/planar.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -356,9 +359,11 @@ void main() {
     vec3 v = normalize(p - rfm.eye);
     vec3 r = kStochastic != 0u ? stochasticDirection(pixel, v, normalize(normalRough.xyz), m.roughness)
                                : reflect(v, normalize(normalRough.xyz));
-    // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0).
+    // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0), nor
+    // those of pixels a planar probe serves (its mirrored image takes them whole).
     bool visible = cameraFade(dot(r, v)) > 0.0;
-    if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible) {
+    bool planar = rf.planarCount > 0u && depth > 0.0 && planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
+    if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible && !planar) {
         ScreenRay ray = screenRay(px, depth, p, r);
         if (ray.tMax > 0.0 && finite3(ray.d)) {
             vec3 traced = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
