@@ -31,9 +31,28 @@ int planarAt(uint count, vec3 p, vec3 n, vec3 eye) {
     return -1;
 }
 
+// How much of a pixel of `roughness` on its plane the planar probe takes: all up to 0.2, none
+// from 0.3 (the rough band), linear between. The image's box mips stand in for a GGX lobe only
+// while the lobe is narrow: serving the gallery's 0.3 and 0.6 floor bands too cost its rough
+// band 3.5 dB (modules/reflections/MEASUREMENTS.md, "planar probes"); above, the chain answers.
+float planarShare(float roughness) {
+    return clamp((0.3 - roughness) / 0.1, 0.0, 1.0);
+}
+
 vec2 planarUv(PlanarProbe pl, vec3 q) {
     vec4 c = pl.viewProj * vec4(q, 1.0);
     return c.xy / c.w * 0.5 + 0.5;
+}
+
+// The reflected distance (m; 65504 the sky) of the mirror ray at plane point p: the planar
+// image's texel at p, nearest (a bilinear mix across a silhouette would average a near surface
+// with the sky).
+float planarDistance(int index, vec3 p) {
+    PlanarProbe pl = planars[index];
+    int base = int(pl.params.y);
+    ivec2 size = textureSize(planarImages, base).xy;
+    ivec2 texel = clamp(ivec2(planarUv(pl, p) * vec2(size)), ivec2(0), size - 1);
+    return texelFetch(planarImages, ivec3(texel, int(pl.params.x)), base).a;
 }
 
 // rgb: the reflection of ray p + t r at `roughness` from planar probe `index`; a: the reflected
@@ -41,10 +60,7 @@ vec2 planarUv(PlanarProbe pl, vec3 q) {
 vec4 samplePlanar(int index, vec3 p, vec3 r, float roughness, float eyeDistance) {
     PlanarProbe pl = planars[index];
     float layer = pl.params.x, base = pl.params.y;
-    // Nearest: a bilinear mix across a silhouette would average a near surface with the sky.
-    ivec2 size = textureSize(planarImages, int(base)).xy;
-    ivec2 texel = clamp(ivec2(planarUv(pl, p) * vec2(size)), ivec2(0), size - 1);
-    float d = texelFetch(planarImages, ivec3(texel, int(layer)), int(base)).a;
+    float d = planarDistance(index, p);
     vec2 uv = planarUv(pl, p + r * min(d, 1e4));
     // The cone's footprint at the reflected surface over a planar pixel there (seen from the
     // mirrored eye, eyeDistance + d away).

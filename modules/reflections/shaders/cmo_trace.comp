@@ -101,7 +101,8 @@ void main() {
     vec3 n = normalize(normalRough.xyz);
     vec3 r = reflect(v, n);
     // Not for pixels a planar probe serves (reflections.resolve takes its image there).
-    bool planar = rf.planarCount > 0u && depth > 0.0 && planarAt(rf.planarCount, p, n, rfm.eye) >= 0;
+    bool planar = rf.planarCount > 0u && depth > 0.0 && planarShare(m.roughness) >= 1.0 &&
+                  planarAt(rf.planarCount, p, n, rfm.eye) >= 0;
     if (rf.cmoCount > 0u && depth > 0.0 && m.reflective && m.traceCmos && m.roughness <= rf.cmoMaxRoughness &&
         !planar && !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
         int iterations = 0;

@@ -156,15 +156,17 @@ void main() {
         float coverage = 0.0;
         vec4 hit = texelFetch(hitTex, out_, 0);
         float hitDistance = 0.0;
-        // On a planar probe's plane the mirrored view is exact and takes the pixel whole (no
-        // screen-space term: coverage stays 0). Screen space's false hits behind thin objects (a
-        // sphere's unseen underside reflected in the floor under it) were streaks of the wrong
-        // colour there; keeping only the screen-space hits that agreed with the planar image on
-        // distance and position scored 32.9 / 34.4 dB against 33.2 / 33.6 planar alone on
-        // mirror_floor, and its choice flipping from pixel to pixel drew moire along the
-        // gallery's reflected edges (modules/reflections/MEASUREMENTS.md, "planar probes").
+        // On a planar probe's plane the mirrored view is exact and takes the pixel (no screen-space
+        // term) up to planarShare's roughness, fading to the rest of the chain above it (its box
+        // mips stand in for a GGX lobe only when the lobe is narrow). Screen space's false hits
+        // behind thin objects (a sphere's unseen underside reflected in the floor under it) were
+        // streaks of the wrong colour there; keeping only the screen-space hits that agreed with
+        // the planar image on distance and position scored 32.9 / 34.4 dB against 33.2 / 33.6
+        // planar alone on mirror_floor, and its choice flipping from pixel to pixel drew moire
+        // along the gallery's reflected edges (modules/reflections/MEASUREMENTS.md, "planar probes").
         int planar = rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
-        if (planar >= 0) {
+        float planarWeight = planar >= 0 ? planarShare(m.roughness) : 0.0;
+        if (planarWeight >= 1.0) {
         } else if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
             if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
                 screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);
@@ -179,43 +181,52 @@ void main() {
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0);
         }
-        // The fallback chain: a planar probe whose plane the pixel lies on (exact for a flat
-        // mirror), else beyond screen space the CMOs (what reflections.cmo_trace found), then local
-        // probes, then the sky, only where screen space leaves something (the probe lookup is
-        // most of this pass's cost past the cone).
+        // Where the planar probe takes only a share (a glossy band), screen space keeps its hit
+        // only if the planar image agrees on the mirror ray's distance (5% and 5 cm): a false
+        // hit behind a thin object there drew sawtooth streaks beside the gallery torus's
+        // reflection in its 0.3 floor band; rejected, the pixel goes down the chain instead.
+        if (planar >= 0 && planarWeight < 1.0 && coverage > 0.0) {
+            float d = planarDistance(planar, p);
+            if (!(abs(hitDistance - d) <= 0.05 * d + 0.05)) coverage = 0.0;
+        }
+        // The fallback chain beyond screen space: the CMOs (what reflections.cmo_trace found),
+        // then local probes, then the sky, only where screen space leaves something (the probe
+        // lookup is most of this pass's cost past the cone); the planar probe's share over it all.
         vec4 probe = vec4(0.0);
         vec3 env = vec3(0.0);
         float proxyDistance = 0.0;
         float cmoWeight = 0.0;
-        float planarWeight = 0.0;
         vec4 cmo = vec4(0.0);
-        if (coverage < 1.0 || !finite3(screen)) {
-            if (planar >= 0) {
-                vec4 pl = samplePlanar(planar, p, r, m.roughness, distance(p, rfm.eye));
-                env = pl.rgb;
-                planarWeight = 1.0;
-                proxyDistance = pl.a;
+        if ((coverage < 1.0 || !finite3(screen)) && planarWeight < 1.0) {
+            if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
+            cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
+            if (cmoWeight < 1.0) {
+                probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
+                vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
+                env = probe.rgb + (1.0 - probe.a) * sky;
             } else {
-                if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
-                cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
-                if (cmoWeight < 1.0) {
-                    probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
-                    vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-                    env = probe.rgb + (1.0 - probe.a) * sky;
-                } else {
-                    env = cmo.rgb;
-                }
+                env = cmo.rgb;
             }
         }
         vec3 radiance = mix(env, screen, coverage);
         if (!finite3(radiance)) radiance = env;
-        reflection = vec4(max(radiance, vec3(0.0)), coverage);
+        float planarDistance = 0.0;
+        if (planarWeight > 0.0) {
+            vec4 pl = samplePlanar(planar, p, r, m.roughness, distance(p, rfm.eye));
+            radiance = mix(radiance, pl.rgb, planarWeight);
+            planarDistance = pl.a;
+        }
+        reflection = vec4(max(radiance, vec3(0.0)), coverage * (1.0 - planarWeight));
         // A planar probe's share counts with the probes' (g): the method AOV has four channels.
-        float rest = (1.0 - coverage) * (1.0 - cmoWeight) * (1.0 - planarWeight);
-        method = vec4(coverage, rest * probe.a + (1.0 - coverage) * planarWeight, rest * (1.0 - probe.a),
-                      (1.0 - coverage) * cmoWeight);
+        float rest = (1.0 - coverage) * (1.0 - cmoWeight);
+        method = vec4(coverage, rest * probe.a, rest * (1.0 - probe.a), (1.0 - coverage) * cmoWeight) *
+                     (1.0 - planarWeight) + vec4(0.0, planarWeight, 0.0, 0.0);
         float top = max(max(method.r, method.g), max(method.b, method.a));
-        distance_ = method.r >= top ? hitDistance : method.a >= top ? cmo.a : method.b >= top ? kSkyDistance : proxyDistance;
+        distance_ = planarWeight >= 0.5 ? planarDistance
+                    : method.r >= top   ? hitDistance
+                    : method.a >= top   ? cmo.a
+                    : method.b >= top   ? kSkyDistance
+                                        : proxyDistance;
     }
     imageStore(reflectionOut, out_, reflection);
     imageStore(methodOut, out_, method);

@@ -362,7 +362,8 @@ void main() {
     // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0), nor
     // those of pixels a planar probe serves (its mirrored image takes them whole).
     bool visible = cameraFade(dot(r, v)) > 0.0;
-    bool planar = rf.planarCount > 0u && depth > 0.0 && planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
+    bool planar = rf.planarCount > 0u && depth > 0.0 && planarShare(m.roughness) >= 1.0 &&
+                  planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
     if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible && !planar) {
         ScreenRay ray = screenRay(px, depth, p, r);
         if (ray.tMax > 0.0 && finite3(ray.d)) {
