@@ -127,6 +127,12 @@ int run(const Options& o) {
         updateProbes();
         app::FrameResult result = runner.render(frame, write ? aovs : std::vector<std::string>{},
                                                 modules.litHook(settings, frame));
+        // The planar probes render this frame's mirrored views in a graph of their own before it
+        // (Probes::renderPlanar): their GPU time is a pass of the frame, first, and in its total.
+        if (!probeModule.planars().empty()) {
+            result.passes.insert(result.passes.begin(), app::PassTime{"probes.planar", probeModule.planarMs()});
+            result.frameMs += probeModule.planarMs();
+        }
         timings.add(result);
         if (write)
             for (const auto& [name, image] : result.aovs) app::writeAov(o.out, name, int(i), image);
