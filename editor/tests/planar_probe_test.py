@@ -13,11 +13,10 @@ import json
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
 
-from editor_test_support import run_script  # the script's folder is on sys.path
+from editor_test_support import copy_gallery, run_script  # the script's folder is on sys.path
 
 
 def fail(msg):
@@ -27,13 +26,7 @@ def fail(msg):
 
 def main():
     editor, capture, source, out = sys.argv[1:5]
-    shutil.rmtree(out, ignore_errors=True)
-    os.makedirs(os.path.join(out, "scenes"))
-    os.makedirs(os.path.join(out, "env"))
-    shutil.copy(os.path.join(source, "assets/env/sunset.exr"), os.path.join(out, "env"))
-    shutil.copy(os.path.join(source, "assets/scenes/gallery.bin"), os.path.join(out, "scenes"))
-    scene = os.path.join(out, "scenes", "gallery.gltf")
-    shutil.copy(os.path.join(source, "assets/scenes/gallery.gltf"), scene)
+    scene = copy_gallery(source, out)
     script = [
         {"camera": "main"}, {"wait": 1},
         {"click_node": "floor.band_0.1"}, {"expect_selected": "floor.band_0.1"},

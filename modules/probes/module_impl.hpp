@@ -14,6 +14,9 @@
 
 namespace speculum::probes {
 
+// How messages name a probe's node: nodes[N] "name" (probes.cpp).
+std::string probeName(const Scene& scene, int node);
+
 // The frame-graph description of an image the module keeps across frames (imported each use).
 inline TextureDesc descOf(const gpu::Image& image) {
     const gpu::ImageDesc& d = image.desc();

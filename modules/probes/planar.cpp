@@ -32,11 +32,6 @@ struct StorePush {
 };
 static_assert(sizeof(StorePush) == 128, "lavapipe's push constant limit");
 
-std::string nodeName(const Scene& scene, int node) {
-    const std::string& n = scene.nodes[size_t(node)].name;
-    return "nodes[" + std::to_string(node) + "]" + (n.empty() ? "" : " \"" + n + "\"");
-}
-
 // The planar image's height for a view `viewHeight` tall: the probe's resolution, or half the view's.
 uint32_t planarHeight(const PlanarInfo& p, uint32_t viewHeight) {
     return p.probe.resolution > 0 ? p.probe.resolution : std::max(viewHeight / 2, 1u);
@@ -48,7 +43,7 @@ PlanarInfo describePlanar(const Scene& scene, int node) {
     const Node& n = scene.nodes.at(size_t(node));
     PlanarInfo info;
     info.node = node;
-    info.name = nodeName(scene, node);
+    info.name = probeName(scene, node);
     info.probe = n.probe.value_or(ReflectionProbe{});
     info.origin = glm::vec3(n.world[3]);
     info.normal = glm::normalize(glm::vec3(n.world[1]));

@@ -22,12 +22,12 @@ constexpr VkFormat kCubeFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr size_t kMaxProbes = 64;
 constexpr VkDeviceSize kMaxArrayBytes = VkDeviceSize(1) << 30;
 
+}  // namespace
+
 std::string probeName(const Scene& scene, int node) {
     const std::string& n = scene.nodes[size_t(node)].name;
     return "nodes[" + std::to_string(node) + "]" + (n.empty() ? "" : " \"" + n + "\"");
 }
-
-}  // namespace
 
 ProbeInfo describeProbe(const Scene& scene, int node) {
     const Node& n = scene.nodes.at(size_t(node));

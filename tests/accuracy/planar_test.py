@@ -14,7 +14,6 @@ cmo_floor  the scene without its planar probe, with and without a CMO above the 
            part 3): the floor's pixels are never worse with the CMO, by more than max_loss_db.
 """
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -24,7 +23,7 @@ sys.path.insert(0, str(HERE.parent / "bench"))
 sys.path.insert(0, str(HERE.parent / "capture"))
 import speculum_bench as bench  # noqa: E402
 from accuracy_args import tool_parser  # noqa: E402
-from stripes_test import load  # noqa: E402
+from stripes_test import load, without_planar_probes  # noqa: E402
 
 SCENE = "mirror_floor"
 PLANAR_NODE = "reflection_probe.floor"
@@ -106,25 +105,15 @@ def floor(tools, rule, out, cache):
 
 def gallery_with_planar(out, rule):
     """The gallery without its planar probe, and with one planar probe node on its sharp floor band."""
-    src = bench.SOURCE / "assets" / "scenes" / "gallery.gltf"
-    doc = json.loads(src.read_text())
-    for n in doc["nodes"]:
-        if n.get("extensions", {}).get("SPECULUM_reflection_probe", {}).get("kind") == "planar":
-            del n["extensions"]["SPECULUM_reflection_probe"]
     d = out / "gallery"
-    d.mkdir(parents=True, exist_ok=True)
-    for b in doc.get("buffers", []):
-        b["uri"] = os.path.relpath(src.parent / b["uri"], d)
-    env = doc["scenes"][0].get("extras", {}).get("environment")
-    if env:
-        doc["scenes"][0]["extras"]["environment"] = os.path.relpath(src.parent / env, d)
-    (d / "gallery.gltf").write_text(json.dumps(doc, indent=1))
+    without = Path(without_planar_probes(str(bench.SOURCE / "assets" / "scenes" / "gallery.gltf"), str(d)))
+    doc = json.loads(without.read_text())
     p = rule["gallery_planar"]
     doc["nodes"].append({"name": "planar.band_0", "translation": p["origin"],
                          "extensions": {"SPECULUM_reflection_probe": {"kind": "planar", "extents": p["extents"]}}})
     doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
     (d / "gallery.planar.gltf").write_text(json.dumps(doc, indent=1))
-    return {"planar": d / "gallery.planar.gltf", "no_planar": d / "gallery.gltf"}
+    return {"planar": d / "gallery.planar.gltf", "no_planar": without}
 
 
 def off_plane(tools, rule, out, cache):

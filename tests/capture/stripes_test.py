@@ -114,19 +114,11 @@ def without_planar_probes(scene, outdir):
         return scene
     for n in planar:
         del n["extensions"]["SPECULUM_reflection_probe"]
-    src = os.path.dirname(os.path.abspath(scene))
+    # The placement tool's edit rewrites the buffers', images' and environment's references.
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "modules", "probes", "tools"))
+    from placement.edit import edited_document
     os.makedirs(outdir, exist_ok=True)
-    rel = lambda uri: os.path.relpath(os.path.join(src, uri), outdir)
-    for b in doc.get("buffers", []):
-        if "uri" in b and not b["uri"].startswith("data:"):
-            b["uri"] = rel(b["uri"])
-    for im in doc.get("images", []):
-        if "uri" in im and not im["uri"].startswith("data:"):
-            im["uri"] = rel(im["uri"])
-    for sc in doc.get("scenes", []):
-        env = sc.get("extras", {}).get("environment")
-        if isinstance(env, str):
-            sc["extras"]["environment"] = rel(env)
+    doc = edited_document(doc, [], os.path.dirname(os.path.abspath(scene)), os.path.abspath(outdir))
     out = os.path.join(outdir, "scene_without_planar.gltf")
     json.dump(doc, open(out, "w"), indent=1)
     return out

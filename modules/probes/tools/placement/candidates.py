@@ -97,7 +97,15 @@ def place_off_surface(geo, p, n, offset, min_offset):
     return c
 
 
-def candidates(geo, samples, max_candidates=16, offset=None, max_q=192):
+MAX_Q = 192  # reflected samples the candidates' visibility is tested against (a subset)
+
+
+def sample_step(samples, max_q=MAX_Q):
+    """The stride of the subset samples[::step] whose indices the candidates' `seen` sets use."""
+    return max(1, len(samples) // max_q)
+
+
+def candidates(geo, samples, max_candidates=16, offset=None, max_q=MAX_Q):
     """CMO centre candidates near the reflectors, each with the reflected sample points it sees;
     ranked by a greedy set cover of the reflected area (weighted), so later ones add what the
     earlier ones miss (which spreads them apart)."""
@@ -106,8 +114,7 @@ def candidates(geo, samples, max_candidates=16, offset=None, max_q=192):
     diag = max(geo.diagonal, 1e-3)
     offset = offset if offset is not None else min(max(0.04 * diag, 0.05), 0.6)
     min_offset = 0.15 * offset
-    step = max(1, len(samples) // max_q)
-    qs = samples[::step]
+    qs = samples[::sample_step(samples, max_q)]
     out = []
     for group in clusters(samples, max_candidates, diag):
         wsum = sum(s["w"] for s in group)

@@ -5,11 +5,11 @@ import math
 
 from speculum_py.vec import cross, dot, length, mul, sub
 
+from .candidates import sample_step
 from .scene import material_weight, normalize
 
 MIN_AREA = 1.0        # m^2: a flat reflector smaller than this is left to the CMOs
 MIN_WEIGHT = 0.25     # material_weight: glossy enough that its reflections show a scene
-MAX_Q = 192           # candidates.candidates' sample subset (the same step)
 
 
 def _frame(n):
@@ -70,9 +70,10 @@ def flat_reflectors(geo, doc, samples, min_area=MIN_AREA):
         plane = {"normal": n, "offset": g["offset"], "origin": [round(c, 6) for c in origin],
                  "rotation": _quat(x, n, z), "area": g["area"],
                  "extents": [round(0.5 * (max(us) - min(us)) + 0.01, 6), round(0.5 * (max(vs) - min(vs)) + 0.01, 6)]}
-        step = max(1, len(samples) // MAX_Q)
-        plane["covered"] = {i for i, s in enumerate(samples[::step]) if on_plane(s["p"], s["n"], plane)}
-        plane["weight"] = sum(s["w"] for s in samples if on_plane(s["p"], s["n"], plane))
+        on = [on_plane(s["p"], s["n"], plane) for s in samples]
+        step = sample_step(samples)  # the candidates' subset: `covered` indexes it as their `seen` does
+        plane["covered"] = {i for i, k in enumerate(range(0, len(samples), step)) if on[k]}
+        plane["weight"] = sum(s["w"] for s, o in zip(samples, on) if o)
         if plane["weight"] > 0.0:
             out.append(plane)
     out.sort(key=lambda p: -p["weight"])
