@@ -6,6 +6,7 @@
 #include "speculum/reflections/upsample.hpp"
 
 #include <array>
+#include <initializer_list>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -13,6 +14,7 @@
 #include <cstddef>
 
 #include "reflections/shaders/frame.h"
+#include "reflections/shaders/tiles.h"
 
 namespace speculum::reflections {
 
@@ -56,14 +58,20 @@ struct Reflections::Impl {
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
     // trace about 5% and the debug views' fetches cost the plain composite about 40%.
     // Trace and resolve per resolution (half reads the guide's pixel) and glossy mode too.
-    std::array<std::optional<gpu::Pipeline>, 8> traces;
-    std::array<std::optional<gpu::Pipeline>, 4> resolves;
+    // Each also per tile mode (tiles.h: the whole screen, a work list, a fill list, the resolve's
+    // lookup list).
+    static constexpr size_t kTileModes = 4;
+    std::array<std::optional<gpu::Pipeline>, 8 * kTileModes> traces;
+    std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> resolves;
     std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 2> composites;  // per view, temporal
-    const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy);
-    const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy);
+    const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy, uint32_t tileMode);
+    const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
-    std::array<std::optional<gpu::Pipeline>, 4> cmoTraces;
-    const gpu::Pipeline& cmoTrace(Resolution resolution, bool linear);
+    std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> cmoTraces;
+    const gpu::Pipeline& cmoTrace(Resolution resolution, bool linear, uint32_t tileMode);
+    // reflections.classify per resolution.
+    std::array<std::optional<gpu::Pipeline>, 2> classifies;
+    const gpu::Pipeline& classify(Resolution resolution);
     const gpu::Pipeline& composite(DebugView view, bool temporal);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -99,16 +107,29 @@ struct Reflections::Impl {
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels);
-    // reflections.trace; at half resolution it also writes the guide (which full pixel each half
-    // pixel traces, modules/reflections/shaders/guide.glsl) and the hit image is half-size.
-    struct Traced {
-        TextureHandle hit, guide;  // guide: half resolution only
+    // reflections.classify (and reflections.tile_clear before it): the tile lists (tiles.h); at
+    // half resolution also the guide (which full pixel each half pixel traces,
+    // modules/reflections/shaders/guide.glsl).
+    struct Classified {
+        BufferHandle tiles;
+        TextureHandle guide;  // half resolution only
     };
-    Traced addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
+    Classified addClassify(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
+    // reflections.trace: the hit image, at the trace's size (half-size at half resolution).
+    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const Classified& tiles,
+                           const ReflectionSettings& s);
+    // One per-pixel pass's dispatches: with reflections.tiles, each (pipeline, list) pair by
+    // indirect dispatch from the tile lists; without, the first pipeline over `extent`.
+    struct TileRun {
+        const gpu::Pipeline* pipeline;
+        uint32_t list;
+    };
+    void dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
+                       std::initializer_list<TileRun> runs, VkExtent2D extent) const;
     // reflections.cmo_trace: what screen space leaves, through the CMOs (out.cmo, out.cmoInfo).
-    void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, const ReflectionSettings& s,
+    void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                      ReflectionOutputs& out);
-    void addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guide, GlossyMode glossy,
+    void addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                     ReflectionOutputs& out);
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
     // image. `distance`: the reflected distance at the trace's size (ReflectionOutputs::distance).

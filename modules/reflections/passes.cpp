@@ -146,11 +146,67 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     return pyramid;
 }
 
-Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in,
-                                                      TextureHandle hizPyramid, const ReflectionSettings& s) {
+Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, const ReflectionInputs& in,
+                                                            TextureHandle hizPyramid, const ReflectionSettings& s) {
+    const bool half = s.resolution == Resolution::Half;
+    // One workgroup (tile) per 8x8 pixels of the trace's size; every tile appends to one list per
+    // pass, so a list holds at most every tile.
+    const uint32_t w = g.config().outputWidth, h = g.config().outputHeight;
+    const uint32_t traceW = half ? (w + 1) / 2 : w, traceH = half ? (h + 1) / 2 : h;
+    const uint32_t tileCount = ((traceW + shader::kTileSize - 1) / shader::kTileSize) *
+                               ((traceH + shader::kTileSize - 1) / shader::kTileSize);
+    const VkDeviceSize headerBytes = shader::kTileLists * sizeof(glm::uvec4);
+    struct ClearData {
+        BufferHandle tiles;
+    };
+    const auto& clear = g.addPass<ClearData>(
+        "reflections.tile_clear", PassType::Transfer,
+        [&](PassBuilder& b, ClearData& d) {
+            BufferHandle tiles = b.create(
+                "reflections.tiles", BufferDesc{headerBytes + VkDeviceSize(tileCount) * shader::kTileLists * sizeof(uint32_t)});
+            d.tiles = b.write(tiles, BufferUsage::TransferDst);
+        },
+        [headerBytes](const ClearData& d, PassContext& pc) {
+            // Each list's dispatch: 0 tiles, y = z = 1 (classify counts x up).
+            std::array<glm::uvec4, shader::kTileLists> header;
+            header.fill(glm::uvec4(0u, 1u, 1u, 0u));
+            vkCmdUpdateBuffer(pc.cmd(), pc.buffer(d.tiles), 0, headerBytes, header.data());
+        });
+    struct Data {
+        TextureHandle hiz, normal, emissive, guide, planar;
+        BufferHandle planarRecords, tiles;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.classify", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.planar = b.read(in.probes.planar.images, TextureUsage::Sampled);
+            data.planarRecords = b.read(in.probes.planar.records, BufferUsage::StorageRead);
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.tiles = b.write(clear.tiles, BufferUsage::StorageWrite);
+            // Full resolution writes no guide: a 1x1 image stands in for the binding (unwritten).
+            TextureDesc desc{.relativeScale = 0.5f, .format = kGuideFormat, .relativeTo = in.gbuffer.depth};
+            if (!half) desc = {.width = 1, .height = 1, .format = kGuideFormat};
+            data.guide = b.write(b.create(half ? "reflections.guide" : "reflections.no_guide", desc),
+                                 TextureUsage::StorageWrite);
+        },
+        [this, half, traceW, traceH](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.buffer("tiles", pc.buffer(data.tiles))
+                .storage("guideOut", pc.view(data.guide))
+                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
+            dispatch(pc, classify(half ? Resolution::Half : Resolution::Full), w, {traceW, traceH});
+        });
+    return {d.tiles, half ? d.guide : TextureHandle{}};
+}
+
+TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
+                                          const Classified& tiles, const ReflectionSettings& s) {
     struct Data {
         TextureHandle hiz, normal, emissive, guide, hit, planar;
-        BufferHandle planarRecords;
+        BufferHandle planarRecords, tiles;
     };
     const Resolution res = s.resolution;
     const auto& d = g.addPass<Data>(
@@ -161,32 +217,39 @@ Reflections::Impl::Traced Reflections::Impl::addTrace(FrameGraph& g, const Refle
             data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            b.read(tiles.tiles, BufferUsage::Indirect);
             TextureDesc desc{.format = kHitFormat};
+            // Full resolution binds the normals in the guide's place (unread).
             if (res == Resolution::Half) {
-                TextureDesc half{.relativeScale = 0.5f, .format = kGuideFormat, .relativeTo = in.gbuffer.depth};
-                data.guide = b.write(b.create("reflections.guide", half), TextureUsage::StorageWrite);
-                desc.relativeTo = data.guide;
+                data.guide = b.read(tiles.guide, TextureUsage::Sampled);
+                desc.relativeTo = tiles.guide;
             }
             data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
-        [this, mode = s.trace, res, glossy = s.glossy](const Data& data, PassContext& pc) {
+        [this, mode = s.trace, res, glossy = s.glossy, tiled = s.tiles](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            // Full resolution binds the hit image in the guide's place (not written).
             w.storage("hitOut", pc.view(data.hit))
-                .storage("guideOut", pc.view(data.guide.valid() ? data.guide : data.hit))
+                .sampled("guideTex", pc.view(data.guide.valid() ? data.guide : data.normal), nearest)
+                .buffer("tiles", pc.buffer(data.tiles))
                 .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
                 .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
-            dispatch(pc, trace(mode, res, glossy), w, pc.extent(data.hit));
+            using namespace shader;
+            dispatchTiles(pc, w, data.tiles, tiled,
+                          {{&trace(mode, res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListTrace},
+                           {&trace(mode, res, glossy, kTileModeFill), kListTraceFill}},
+                          pc.extent(data.hit));
         });
-    return {d.hit, d.guide};
+    return d.hit;
 }
 
-void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
+void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                                     const ReflectionSettings& s, ReflectionOutputs& out) {
     const probes::CmoSet& set = in.probes.cmos;
+    const TextureHandle guideImage = tiles.guide;
     struct Data {
         TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info, planar;
-        BufferHandle records, planarRecords;
+        BufferHandle records, planarRecords, tiles;
     };
     const auto& d = g.addPass<Data>(
         "reflections.cmo_trace", PassType::Compute,
@@ -199,6 +262,8 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
             data.records = b.read(set.records, BufferUsage::StorageRead);
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            b.read(tiles.tiles, BufferUsage::Indirect);
             data.distance = b.read(set.distance, TextureUsage::Sampled);
             data.radiance = b.read(set.radiance, TextureUsage::Sampled);
             data.attr = b.read(set.attr, TextureUsage::Sampled);
@@ -207,8 +272,8 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
             data.cmo = b.write(b.create("reflections.cmo", desc), TextureUsage::StorageWrite);
             data.info = b.write(b.create("reflections.cmo_info", desc), TextureUsage::StorageWrite);
         },
-        [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear](const Data& data,
-                                                                                        PassContext& pc) {
+        [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear, tiled = s.tiles](
+            const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.sampled("hitTex", pc.view(data.hit), nearest)
                 .sampled("guideTex", pc.view(data.guide), nearest)
@@ -221,18 +286,25 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, T
                 .storage("cmoOut", pc.view(data.cmo))
                 .storage("infoOut", pc.view(data.info))
                 .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
-                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
-            dispatch(pc, cmoTrace(half ? Resolution::Half : Resolution::Full, linear), w, pc.extent(data.cmo));
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
+                .buffer("tiles", pc.buffer(data.tiles));
+            using namespace shader;
+            const Resolution res = half ? Resolution::Half : Resolution::Full;
+            dispatchTiles(pc, w, data.tiles, tiled,
+                          {{&cmoTrace(res, linear, tiled ? kTileModeWork : kTileModeScreen), kListCmo},
+                           {&cmoTrace(res, linear, kTileModeFill), kListCmoFill}},
+                          pc.extent(data.cmo));
         });
     out.cmo = d.cmo;
     out.cmoInfo = d.info;
 }
 
-void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, TextureHandle guideImage,
-                                   GlossyMode glossy, ReflectionOutputs& out) {
+void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                   const ReflectionSettings& s, ReflectionOutputs& out) {
+    const TextureHandle guideImage = tiles.guide;
     struct Data {
         TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes, planar;
-        BufferHandle probeRecords, planarRecords;
+        BufferHandle probeRecords, planarRecords, tiles;
     };
     const probes::ProbeSet& set = in.probes;  // dummies where the host gave none (Reflections::addPasses)
     const auto& d = g.addPass<Data>(
@@ -242,6 +314,8 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
             data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
             data.planar = b.read(set.planar.images, TextureUsage::Sampled);
             data.planarRecords = b.read(set.planar.records, BufferUsage::StorageRead);
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            b.read(tiles.tiles, BufferUsage::Indirect);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -260,8 +334,8 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
             // Without CMOs the hit image is bound in the CMO result's place (unread: rf.cmoCount 0).
             data.cmo = b.read(out.cmo.valid() ? out.cmo : out.hit, TextureUsage::Sampled);
         },
-        [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy](const Data& data,
-                                                                                       PassContext& pc) {
+        [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy = s.glossy,
+         tiled = s.tiles](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.sampled("hitTex", pc.view(data.hit), nearest)
@@ -275,8 +349,14 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, Te
                 .sampled("cmoTex", pc.view(data.cmo), nearest)
                 .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
                 .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
-                .storage("distanceOut", pc.view(data.distance));
-            dispatch(pc, resolve(res, glossy), w, pc.extent(data.reflection));
+                .storage("distanceOut", pc.view(data.distance))
+                .buffer("tiles", pc.buffer(data.tiles));
+            using namespace shader;
+            dispatchTiles(pc, w, data.tiles, tiled,
+                          {{&resolve(res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListResolveRay},
+                           {&resolve(res, glossy, kTileModeLookup), kListLookup},
+                           {&resolve(res, glossy, kTileModeFill), kListResolveFill}},
+                          pc.extent(data.reflection));
         });
     out.reflection = d.reflection;
     out.method = d.method;

@@ -222,33 +222,67 @@ void Reflections::resetHistory() {
     impl_->history.invalidate();
 }
 
-const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy) {
-    std::optional<gpu::Pipeline>& p = traces.at(size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy));
+namespace {
+// Specialization constants with the tile mode at id 310 (tiles.glsl), above every other id.
+std::vector<uint32_t> withTileMode(std::vector<uint32_t> constants, uint32_t tileMode) {
+    constants.resize(311, 0u);
+    constants[310] = tileMode;
+    return constants;
+}
+}  // namespace
+
+const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolution, GlossyMode glossy,
+                                              uint32_t tileMode) {
+    std::optional<gpu::Pipeline>& p =
+        traces.at((size_t(mode) * 4 + size_t(resolution) * 2 + size_t(glossy)) * kTileModes + tileMode);
     if (!p)
         p = gpu::createComputePipeline(ctx, "reflections/trace.comp", 0, "reflections.trace",
-                                       {uint32_t(mode), uint32_t(resolution), uint32_t(glossy)});
+                                       withTileMode({uint32_t(mode), uint32_t(resolution), uint32_t(glossy)}, tileMode));
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy) {
-    std::optional<gpu::Pipeline>& p = resolves.at(size_t(resolution) * 2 + size_t(glossy));
+const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode) {
+    std::optional<gpu::Pipeline>& p = resolves.at((size_t(resolution) * 2 + size_t(glossy)) * kTileModes + tileMode);
     if (!p)
         p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", 0, "reflections.resolve",
-                                       {uint32_t(resolution), uint32_t(glossy)});
+                                       withTileMode({uint32_t(resolution), uint32_t(glossy)}, tileMode));
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool linear) {
-    std::optional<gpu::Pipeline>& p = cmoTraces.at(size_t(resolution) * 2 + (linear ? 1 : 0));
+const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool linear, uint32_t tileMode) {
+    std::optional<gpu::Pipeline>& p = cmoTraces.at((size_t(resolution) * 2 + (linear ? 1 : 0)) * kTileModes + tileMode);
     if (!p) {
         // The scene's lights (ids 0-287, shaders/engine/scene_lights.glsl), then ids 300 and 301.
         std::vector<uint32_t> constants = renderer.lightingConstants();
         constants.resize(302, 0u);
         constants[300] = uint32_t(resolution);
         constants[301] = linear ? 1u : 0u;
-        p = gpu::createComputePipeline(ctx, "reflections/cmo_trace.comp", 0, "reflections.cmo_trace", constants);
+        p = gpu::createComputePipeline(ctx, "reflections/cmo_trace.comp", 0, "reflections.cmo_trace",
+                                       withTileMode(std::move(constants), tileMode));
     }
     return *p;
+}
+
+const gpu::Pipeline& Reflections::Impl::classify(Resolution resolution) {
+    std::optional<gpu::Pipeline>& p = classifies.at(size_t(resolution));
+    if (!p)
+        p = gpu::createComputePipeline(ctx, "reflections/classify.comp", 0, "reflections.classify",
+                                       {0u, uint32_t(resolution)});
+    return *p;
+}
+
+void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
+                                      std::initializer_list<TileRun> runs, VkExtent2D extent) const {
+    for (const TileRun& run : runs) {
+        gpu::DescriptorWriter copy = w;  // push() clears its writer
+        run.pipeline->bind(pc.cmd());
+        copy.push(ctx, pc.cmd(), *run.pipeline);
+        if (!tiled) {
+            vkCmdDispatch(pc.cmd(), (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+            return;
+        }
+        vkCmdDispatchIndirect(pc.cmd(), pc.buffer(tiles), VkDeviceSize(run.list) * sizeof(glm::uvec4));
+    }
 }
 
 const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal) {
@@ -280,11 +314,11 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
-    Impl::Traced traced = m.addTrace(graph, in, out.hiz, s);
-    out.hit = traced.hit;
-    TextureHandle guide = out.guide = traced.guide;
-    if (s.cmos && in.probes.cmos.records.valid() && in.probes.cmos.count > 0) m.addCmoTrace(graph, in, guide, s, out);
-    m.addResolve(graph, in, guide, s.glossy, out);
+    Impl::Classified tiles = m.addClassify(graph, in, out.hiz, s);
+    TextureHandle guide = out.guide = tiles.guide;
+    out.hit = m.addTrace(graph, in, out.hiz, tiles, s);
+    if (s.cmos && in.probes.cmos.records.valid() && in.probes.cmos.count > 0) m.addCmoTrace(graph, in, tiles, s, out);
+    m.addResolve(graph, in, tiles, s, out);
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
         UpsampleInputs up{in.gbuffer.depth, in.gbuffer.normal, guide, out.reflection, cam.invViewProj, cam.position};

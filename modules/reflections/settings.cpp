@@ -89,6 +89,10 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
         bind<&R::resolution>({"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
          "Trace and resolve at full size, or at half size in each axis followed by a joint bilateral "
          "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."}),
+        bind<&R::tiles>({"reflections.tiles", T::Bool, "", 0, 1, 1, {},
+         "Classify 8x8 tiles by what their pixels need (a screen-space ray, the CMOs, a probe and sky "
+         "lookup, nothing) and run the trace, the CMO trace and the resolve only where needed, by "
+         "indirect dispatch; off: each over the whole screen (the same image, the A/B baseline)."}),
         bind<&R::glossy>({"reflections.glossy", T::Enum, "", 0, 1, 0, {"cone", "stochastic"},
          "Glossy reflections by cone tracing the mirror ray's hit in the colour pyramid, or by one "
          "GGX visible-normal sample per pixel with neighbour ray reuse (pair it with temporal)."}),

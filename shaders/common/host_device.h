@@ -10,7 +10,8 @@
 //
 // In C++ the block is `struct ReflectionFrame` in that namespace (the layout qualifiers and the
 // instance name vanish); in GLSL it is the qualified block with its instance name. A plain
-// `struct` (an element of a buffer's array) needs no macro. The layouts agree only if the C++
+// `struct` (an element of a buffer's array) needs no macro; SPECULUM_CONSTANT(uint, kName, 8u)
+// declares a constant both sides read. The layouts agree only if the C++
 // side follows the block's packing rules: the headers that include this static_assert their
 // sizes and offsets.
 #ifndef SPECULUM_HOST_DEVICE_H
@@ -37,11 +38,13 @@ using uint = uint32_t;
 #define SPECULUM_SHADER_NAMESPACE_END }
 #define SPECULUM_BLOCK(qualifiers, name) struct name
 #define SPECULUM_BLOCK_INSTANCE(instance)
+#define SPECULUM_CONSTANT(type, name, value) inline constexpr type name = value
 #else
 #define SPECULUM_SHADER_NAMESPACE_BEGIN(ns)
 #define SPECULUM_SHADER_NAMESPACE_END
 #define SPECULUM_BLOCK(qualifiers, name) qualifiers name
 #define SPECULUM_BLOCK_INSTANCE(instance) instance
+#define SPECULUM_CONSTANT(type, name, value) const type name = value
 #endif
 
 #endif

@@ -34,6 +34,8 @@ layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D infoOut;
 // Ids above the scene lights' (0-287, scene_lights.glsl).
 layout(constant_id = 300) const uint kHalf = 0u;    // reflections.resolution=half
 layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=linear
+// Tile lists (reflections.classify): the work list traces, the fill list writes "nothing found".
+#include "reflections/shaders/tiles.glsl"
 
 // The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
 // CMO's own direction), with the lights' direct terms moved to the reflected ray's direction
@@ -88,8 +90,13 @@ bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
 }
 
 void main() {
-    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListCmoFill : kListCmo);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    if (kTileMode == kTileModeFill) {
+        imageStore(cmoOut, out_, vec4(0.0));
+        imageStore(infoOut, out_, vec4(0.0));
+        return;
+    }
     ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 result = vec4(0.0);
     vec4 info = vec4(0.0);

@@ -36,6 +36,10 @@ layout(constant_id = 0) const uint kHalf = 0u;
 // reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
 // samples instead of a cone.
 layout(constant_id = 1) const uint kStochastic = 0u;
+// Tile lists (reflections.classify): kListResolveRay runs all of it, kListLookup (no pixel with a
+// screen-space ray: its hits all read "not traced") compiles the screen-space term out, and
+// kListResolveFill writes what a pixel that reflects nothing gets.
+#include "reflections/shaders/tiles.glsl"
 
 // The reflected distance the temporal pass reprojects by (distanceOut): the screen-space hit's
 // when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
@@ -137,8 +141,16 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
 }
 
 void main() {
-    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 out_ = tilePixel(kTileMode == kTileModeFill     ? kListResolveFill
+                           : kTileMode == kTileModeLookup ? kListLookup
+                                                          : kListResolveRay);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    if (kTileMode == kTileModeFill) {
+        imageStore(reflectionOut, out_, vec4(0.0));
+        imageStore(methodOut, out_, vec4(0.0));
+        imageStore(distanceOut, out_, vec4(0.0));
+        return;
+    }
     ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 reflection = vec4(0.0);
     vec4 method = vec4(0.0);
@@ -154,7 +166,7 @@ void main() {
         vec3 r = reflect(v, n);
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
-        vec4 hit = texelFetch(hitTex, out_, 0);
+        vec4 hit = kTileMode == kTileModeLookup ? vec4(-1.0) : texelFetch(hitTex, out_, 0);
         float hitDistance = 0.0;
         // On a planar probe's plane the mirrored view is exact and takes the pixel (no screen-space
         // term) up to planarShare's roughness, fading to the rest of the chain above it (its box
@@ -166,7 +178,7 @@ void main() {
         // along the gallery's reflected edges (modules/reflections/MEASUREMENTS.md, "planar probes").
         int planar = rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
         float planarWeight = planar >= 0 ? planarShare(m.roughness) : 0.0;
-        if (planarWeight >= 1.0) {
+        if (planarWeight >= 1.0 || kTileMode == kTileModeLookup) {
         } else if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
             if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
                 screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);

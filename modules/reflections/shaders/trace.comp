@@ -29,13 +29,13 @@ layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D hitOut;
 // reflections.trace (TraceMode: 0 hiz, 1 linear) as a specialization constant: lavapipe would
 // otherwise run the other tracer's loops once per pixel too.
 layout(constant_id = 0) const uint kTraceMode = 0u;
-// reflections.resolution (1: half): each invocation picks the full-resolution pixel of its 2x2
-// that it traces (reflections/guide.glsl), records it in the guide and writes the hit at its own
-// half-resolution position.
+// reflections.resolution (1: half): each invocation traces the full-resolution pixel of its 2x2
+// that reflections.classify chose (the guide, reflections/guide.glsl) and writes the hit at its
+// own half-resolution position.
 layout(constant_id = 1) const uint kHalf = 0u;
-layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D guideOut;  // half only
-#define SPECULUM_REFLECTIONS_GUIDE_CHOOSE
-#include "reflections/shaders/guide.glsl"
+layout(set = 0, binding = 6) uniform sampler2D guideTex;  // half only
+// Tile lists (reflections.classify): the work list traces, the fill list writes "not traced".
+#include "reflections/shaders/tiles.glsl"
 // reflections.glossy (1: stochastic): glossy pixels trace a GGX visible-normal sample
 // (reflections/stochastic.glsl) instead of the mirror ray.
 layout(constant_id = 2) const uint kStochastic = 0u;
@@ -333,26 +333,17 @@ vec3 traceLinear(ScreenRay ray) {
 }
 
 void main() {
-    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListTraceFill : kListTrace);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
-    ivec2 pixel = out_;
-    float depth;
-    vec4 normalRough;
-    float flags;
-    if (kHalf != 0u) {
-        GuideChoice c = chooseGuidePixel(out_);
-        pixel = c.pixel;
-        depth = c.depth;
-        normalRough = c.normalRough;
-        flags = c.flags;
-        vec3 world = depth > 0.0 ? worldAt(vec2(pixel) + 0.5, depth) : vec3(0.0);
-        imageStore(guideOut, out_, vec4(world, packGuide(c.index, c.reflective, normalRough.w, normalRough.xyz)));
-    } else {
-        depth = texelFetch(hiz, pixel, 0).g;
-        normalRough = texelFetch(normalTex, pixel, 0);
-        flags = texelFetch(emissiveTex, pixel, 0).a;
-    }
     vec4 result = vec4(-1.0, -1.0, -1.0, 0.0);
+    if (kTileMode == kTileModeFill) {
+        imageStore(hitOut, out_, result);
+        return;
+    }
+    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
+    float depth = texelFetch(hiz, pixel, 0).g;
+    vec4 normalRough = texelFetch(normalTex, pixel, 0);
+    float flags = texelFetch(emissiveTex, pixel, 0).a;
     PixelMaterial m = pixelMaterial(flags, normalRough.w);
     vec2 px = vec2(pixel) + 0.5;
     vec3 p = worldAt(px, depth);

@@ -76,6 +76,7 @@ struct ReflectionSettings {
     float cmoMaxRoughness;
     bool cmoPassBehind;  // reflections.cmo_unresolved=pass_behind
     Resolution resolution;
+    bool tiles;  // reflections.classify's tile lists drive trace, cmo_trace and resolve
     GlossyMode glossy;
     bool temporal;
     float temporalAlpha;

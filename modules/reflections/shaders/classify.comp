@@ -1,0 +1,81 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.classify: what each 8x8 tile of the trace's resolution needs (tiles.h), as tile
+// lists the per-pixel passes dispatch from. A pixel needs
+//   - a screen-space ray: reflective, screen-space mode, no rougher than its screen-space limit,
+//     not taken whole by a planar probe (exactly the trace's own test but the camera fade, whose
+//     ray direction is stochastic in one mode: a tile is never left out that would trace);
+//   - the CMOs: reflective, CMOs in its chain, no rougher than cmo_max_roughness, not planar;
+//   - a resolve: reflective at all (else its reflection is 0).
+// Above the screen-space limit a reflective tile is a lookup (probes and sky, no ray). At half
+// resolution this pass also chooses the pixel each half pixel traces and writes the guide
+// (reflections/guide.glsl), which the trace used to: the choice is needed to classify.
+#include "reflections/shaders/common.glsl"
+#include "reflections/shaders/material.glsl"
+#define PLANAR_BUFFER_BINDING 16
+#define PLANAR_IMAGES_BINDING 17
+#include "probes/shaders/planar.glsl"
+#define SPECULUM_TILES_WRITE
+#include "reflections/shaders/tiles.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D hiz;         // level 0: depth
+layout(set = 0, binding = 2) uniform sampler2D normalTex;   // xyz normal, w roughness
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex; // a: flags | material index
+layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D guideOut;  // half only
+layout(constant_id = 1) const uint kHalf = 0u;
+#define SPECULUM_REFLECTIONS_GUIDE_CHOOSE
+#include "reflections/shaders/guide.glsl"
+
+const uint kNeedRay = 1u, kNeedCmo = 2u, kNeedResolve = 4u;
+shared uint needs;
+
+void append(uint list, uint tile) {
+    uint i = atomicAdd(tiles.args[list].x, 1u);
+    tiles.entries[i * kTileLists + list] = tile;
+}
+
+void main() {
+    ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
+    if (gl_LocalInvocationIndex == 0u) needs = 0u;
+    barrier();
+    uint mine = 0u;
+    if (all(lessThan(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) {
+        ivec2 pixel = out_;
+        float depth;
+        vec4 normalRough;
+        float flags;
+        if (kHalf != 0u) {
+            GuideChoice c = chooseGuidePixel(out_);
+            pixel = c.pixel;
+            depth = c.depth;
+            normalRough = c.normalRough;
+            flags = c.flags;
+            vec3 world = depth > 0.0 ? worldAt(vec2(pixel) + 0.5, depth) : vec3(0.0);
+            imageStore(guideOut, out_, vec4(world, packGuide(c.index, c.reflective, normalRough.w, normalRough.xyz)));
+        } else {
+            depth = texelFetch(hiz, pixel, 0).g;
+            normalRough = texelFetch(normalTex, pixel, 0);
+            flags = texelFetch(emissiveTex, pixel, 0).a;
+        }
+        PixelMaterial m = pixelMaterial(flags, normalRough.w);
+        if (depth > 0.0 && m.reflective) {
+            vec3 p = worldAt(vec2(pixel) + 0.5, depth);
+            bool planar = rf.planarCount > 0u && planarShare(m.roughness) >= 1.0 &&
+                          planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
+            mine = kNeedResolve;
+            if (m.screenSpace && m.roughness <= m.maxScreenSpace && !planar) mine |= kNeedRay;
+            if (rf.cmoCount > 0u && m.traceCmos && m.roughness <= rf.cmoMaxRoughness && !planar) mine |= kNeedCmo;
+        }
+    }
+    if (mine != 0u) atomicOr(needs, mine);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
+        uint n = needs;
+        append((n & kNeedRay) != 0u ? kListTrace : kListTraceFill, tile);
+        append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
+        append((n & kNeedRay) != 0u ? kListResolveRay : (n & kNeedResolve) != 0u ? kListLookup : kListResolveFill, tile);
+    }
+}

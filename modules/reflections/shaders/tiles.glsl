@@ -1,0 +1,27 @@
+// Tile-list dispatch for the per-pixel passes (tiles.h has the layout and the lists). Define
+// SPECULUM_TILES_WRITE before including it to write the lists (reflections.classify).
+#ifndef SPECULUM_REFLECTIONS_TILES_GLSL
+#define SPECULUM_REFLECTIONS_TILES_GLSL
+
+#include "reflections/shaders/tiles.h"
+
+layout(constant_id = 310) const uint kTileMode = 0u;
+
+#ifdef SPECULUM_TILES_WRITE
+layout(set = 0, binding = 18, std430) buffer TileList {
+#else
+layout(set = 0, binding = 18, std430) readonly buffer TileList {
+#endif
+    uvec4 args[kTileLists];  // xyz: VkDispatchIndirectCommand
+    uint entries[];
+} tiles;
+
+// The pixel (at the pass's resolution) of this invocation: the global id over the whole screen,
+// else the `list`'s tile of this workgroup. The list is a workgroup's own: tiles never overlap.
+ivec2 tilePixel(uint list) {
+    if (kTileMode == kTileModeScreen) return ivec2(gl_GlobalInvocationID.xy);
+    uint e = tiles.entries[gl_WorkGroupID.x * kTileLists + list];
+    return ivec2(e & 0xffffu, e >> 16) * int(kTileSize) + ivec2(gl_LocalInvocationID.xy);
+}
+
+#endif

@@ -1,0 +1,40 @@
+// The tile lists of reflections.classify, declared once for C++ (modules/reflections/passes.cpp
+// sizes, clears and dispatches them) and GLSL (tiles.glsl reads them). Work follows need (issue
+// 23): each 8x8 tile of the trace's resolution is classified by what its pixels need, and each
+// per-pixel pass runs twice by indirect dispatch: its full shader on the tiles of its work list,
+// and its fill variant (the same shader with the work compiled out, so its outputs are what the
+// full shader writes for a pixel that needs nothing) on the rest. A pixel's result is then the
+// same as without tiles; only whole tiles of pixels that need nothing skip the work.
+//
+// The buffer: kTileLists VkDispatchIndirectCommand headers (x: the list's tile count, y = z = 1,
+// 16 bytes apart), then the entries interleaved, entry i of list k at entries[i * kTileLists + k]
+// (so that no list needs the screen's tile count to find its start), each a tile packed as
+// x | y << 16.
+#ifndef SPECULUM_REFLECTIONS_TILES_H
+#define SPECULUM_REFLECTIONS_TILES_H
+
+#include "common/host_device.h"
+
+SPECULUM_SHADER_NAMESPACE_BEGIN(speculum::reflections::shader)
+
+SPECULUM_CONSTANT(uint, kTileSize, 8u);  // the passes' workgroup size: one workgroup per tile
+SPECULUM_CONSTANT(uint, kTileLists, 8u);
+// The lists. A tile is in exactly one of each pass's lists.
+SPECULUM_CONSTANT(uint, kListTrace, 0u);       // some pixel traces a screen-space ray
+SPECULUM_CONSTANT(uint, kListTraceFill, 1u);   // none does
+SPECULUM_CONSTANT(uint, kListCmo, 2u);         // some pixel may trace the CMOs
+SPECULUM_CONSTANT(uint, kListCmoFill, 3u);     // none may
+SPECULUM_CONSTANT(uint, kListResolveRay, 4u);  // some pixel resolves a screen-space ray (= kListTrace)
+SPECULUM_CONSTANT(uint, kListLookup, 5u);      // reflective pixels, none with a ray: probes, CMOs, sky only
+SPECULUM_CONSTANT(uint, kListResolveFill, 6u); // nothing reflects
+SPECULUM_CONSTANT(uint, kListUnused, 7u);
+
+// How a per-pixel pass's pipeline is dispatched (its specialization constant kTileMode, id 310).
+SPECULUM_CONSTANT(uint, kTileModeScreen, 0u);  // over the whole screen (reflections.tiles off)
+SPECULUM_CONSTANT(uint, kTileModeWork, 1u);    // the pass's work list: the full shader
+SPECULUM_CONSTANT(uint, kTileModeFill, 2u);    // its fill list: outputs of a pixel that needs nothing
+SPECULUM_CONSTANT(uint, kTileModeLookup, 3u);  // the resolve on kListLookup: no screen-space term
+
+SPECULUM_SHADER_NAMESPACE_END
+
+#endif
