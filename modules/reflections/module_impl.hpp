@@ -116,7 +116,8 @@ struct Reflections::Impl {
     };
     Classified addClassify(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
     // reflections.trace: the hit image, at the trace's size (half-size at half resolution).
-    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const Classified& tiles,
+    // It appends its tiles to the CMO trace's lists (tiles.tiles is the new version).
+    TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, Classified& tiles,
                            const ReflectionSettings& s);
     // One per-pixel pass's dispatches: with reflections.tiles, each (pipeline, list) pair by
     // indirect dispatch from the tile lists; without, the first pipeline over `extent`.

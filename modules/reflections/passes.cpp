@@ -203,7 +203,7 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
 }
 
 TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                          const Classified& tiles, const ReflectionSettings& s) {
+                                          Classified& tiles, const ReflectionSettings& s) {
     struct Data {
         TextureHandle hiz, normal, emissive, guide, hit, planar;
         BufferHandle planarRecords, tiles;
@@ -217,8 +217,9 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
             data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            // It reads its own lists and appends its tiles to the CMO trace's (trace.comp).
             b.read(tiles.tiles, BufferUsage::Indirect);
+            data.tiles = tiles.tiles = b.write(tiles.tiles, BufferUsage::StorageWrite);
             TextureDesc desc{.format = kHitFormat};
             // Full resolution binds the normals in the guide's place (unread).
             if (res == Resolution::Half) {

@@ -5,7 +5,8 @@
 //   - a screen-space ray: reflective, screen-space mode, no rougher than its screen-space limit,
 //     not taken whole by a planar probe (exactly the trace's own test but the camera fade, whose
 //     ray direction is stochastic in one mode: a tile is never left out that would trace);
-//   - the CMOs: reflective, CMOs in its chain, no rougher than cmo_max_roughness, not planar;
+//   - the CMOs: reflective, CMOs in its chain, no rougher than cmo_max_roughness, not planar, and
+//     not covered by screen space (the trace lists the tiles with a ray, when it knows that);
 //   - a resolve: reflective at all (else its reflection is 0).
 // Above the screen-space limit a reflective tile is a lookup (probes and sky, no ray). At half
 // resolution this pass also chooses the pixel each half pixel traces and writes the guide
@@ -15,6 +16,7 @@
 #define PLANAR_BUFFER_BINDING 16
 #define PLANAR_IMAGES_BINDING 17
 #include "probes/shaders/planar.glsl"
+#include "reflections/shaders/chain.glsl"
 #define SPECULUM_TILES_WRITE
 #include "reflections/shaders/tiles.glsl"
 
@@ -62,11 +64,10 @@ void main() {
         PixelMaterial m = pixelMaterial(flags, normalRough.w);
         if (depth > 0.0 && m.reflective) {
             vec3 p = worldAt(vec2(pixel) + 0.5, depth);
-            bool planar = rf.planarCount > 0u && planarShare(m.roughness) >= 1.0 &&
-                          planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
+            bool planar = planarServes(depth, m, p, normalize(normalRough.xyz));
             mine = kNeedResolve;
             if (m.screenSpace && m.roughness <= m.maxScreenSpace && !planar) mine |= kNeedRay;
-            if (rf.cmoCount > 0u && m.traceCmos && m.roughness <= rf.cmoMaxRoughness && !planar) mine |= kNeedCmo;
+            if (inCmoBand(depth, m, planar)) mine |= kNeedCmo;
         }
     }
     if (mine != 0u) atomicOr(needs, mine);
@@ -75,7 +76,9 @@ void main() {
         uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
         uint n = needs;
         append((n & kNeedRay) != 0u ? kListTrace : kListTraceFill, tile);
-        append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
+        // A tile with a ray gets its CMO list from reflections.trace, which knows what screen space
+        // covers; without one, nothing is covered.
+        if ((n & kNeedRay) == 0u) append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
         append((n & kNeedRay) != 0u ? kListResolveRay : (n & kNeedResolve) != 0u ? kListLookup : kListResolveFill, tile);
     }
 }

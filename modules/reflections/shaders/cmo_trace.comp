@@ -19,6 +19,7 @@
 #define PLANAR_BUFFER_BINDING 16
 #define PLANAR_IMAGES_BINDING 17
 #include "probes/shaders/planar.glsl"
+#include "reflections/shaders/chain.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -34,7 +35,9 @@ layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D infoOut;
 // Ids above the scene lights' (0-287, scene_lights.glsl).
 layout(constant_id = 300) const uint kHalf = 0u;    // reflections.resolution=half
 layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=linear
-// Tile lists (reflections.classify): the work list traces, the fill list writes "nothing found".
+// Tile lists: the work list (tiles with a pixel in the CMO band that screen space leaves uncovered,
+// listed by reflections.classify where no pixel traces a screen-space ray and by reflections.trace
+// where one does) traces, the fill list writes "nothing found".
 #include "reflections/shaders/tiles.glsl"
 
 // The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
@@ -80,15 +83,6 @@ vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out v
     return max(captured + delta, vec3(0.0));
 }
 
-// Whether screen space alone covers this pixel (resolve.comp's coverage in `hit` mode is 1):
-// then nothing is left for the CMOs.
-bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
-    if (!(hit.z > 0.0) || rf.coverageMode != 0u || !m.screenSpace) return false;
-    float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) * distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
-                  clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
-    return fades >= 1.0;
-}
-
 void main() {
     ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListCmoFill : kListCmo);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
@@ -108,10 +102,8 @@ void main() {
     vec3 n = normalize(normalRough.xyz);
     vec3 r = reflect(v, n);
     // Not for pixels a planar probe serves (reflections.resolve takes its image there).
-    bool planar = rf.planarCount > 0u && depth > 0.0 && planarShare(m.roughness) >= 1.0 &&
-                  planarAt(rf.planarCount, p, n, rfm.eye) >= 0;
-    if (rf.cmoCount > 0u && depth > 0.0 && m.reflective && m.traceCmos && m.roughness <= rf.cmoMaxRoughness &&
-        !planar && !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
+    // reflections.trace listed this tile only if some pixel of it passes this test.
+    if (inCmoBand(depth, m, planarServes(depth, m, p, n)) && !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
         int iterations = 0;
         int maxIterations = int(rf.cmoMaxIterations);
         int maxBounces = int(rf.cmoBounces);

@@ -19,6 +19,7 @@
 #define PLANAR_BUFFER_BINDING 16
 #define PLANAR_IMAGES_BINDING 17
 #include "probes/shaders/planar.glsl"
+#include "reflections/shaders/chain.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -34,8 +35,11 @@ layout(constant_id = 0) const uint kTraceMode = 0u;
 // own half-resolution position.
 layout(constant_id = 1) const uint kHalf = 0u;
 layout(set = 0, binding = 6) uniform sampler2D guideTex;  // half only
-// Tile lists (reflections.classify): the work list traces, the fill list writes "not traced".
+// Tile lists (reflections.classify): the work list traces, the fill list writes "not traced". The
+// work list's tiles then go to the CMO trace's lists by what screen space left uncovered.
+#define SPECULUM_TILES_WRITE
 #include "reflections/shaders/tiles.glsl"
+shared uint needsCmo;
 // reflections.glossy (1: stochastic): glossy pixels trace a GGX visible-normal sample
 // (reflections/stochastic.glsl) instead of the mirror ray.
 layout(constant_id = 2) const uint kStochastic = 0u;
@@ -334,34 +338,49 @@ vec3 traceLinear(ScreenRay ray) {
 
 void main() {
     ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListTraceFill : kListTrace);
-    if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
+    bool inside = all(lessThan(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf));
     vec4 result = vec4(-1.0, -1.0, -1.0, 0.0);
     if (kTileMode == kTileModeFill) {
-        imageStore(hitOut, out_, result);
+        if (inside) imageStore(hitOut, out_, result);
         return;
     }
-    ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
-    float depth = texelFetch(hiz, pixel, 0).g;
-    vec4 normalRough = texelFetch(normalTex, pixel, 0);
-    float flags = texelFetch(emissiveTex, pixel, 0).a;
-    PixelMaterial m = pixelMaterial(flags, normalRough.w);
-    vec2 px = vec2(pixel) + 0.5;
-    vec3 p = worldAt(px, depth);
-    vec3 v = normalize(p - rfm.eye);
-    vec3 r = kStochastic != 0u ? stochasticDirection(pixel, v, normalize(normalRough.xyz), m.roughness)
-                               : reflect(v, normalize(normalRough.xyz));
-    // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0), nor
-    // those of pixels a planar probe serves (its mirrored image takes them whole).
-    bool visible = cameraFade(dot(r, v)) > 0.0;
-    bool planar = rf.planarCount > 0u && depth > 0.0 && planarShare(m.roughness) >= 1.0 &&
-                  planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) >= 0;
-    if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible && !planar) {
-        ScreenRay ray = screenRay(px, depth, p, r);
-        if (ray.tMax > 0.0 && finite3(ray.d)) {
-            vec3 traced = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
-            float miss = traced.y == -2.0 && ray.faded ? -5.0 : traced.y;
-            result = traced.y == 0.0 ? hitAt(ray, traced.x, int(traced.z)) : vec4(-1.0, -1.0, miss, traced.z);
+    if (kTileMode == kTileModeWork && gl_LocalInvocationIndex == 0u) needsCmo = 0u;
+    bool cmo = false;
+    if (inside) {
+        ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
+        float depth = texelFetch(hiz, pixel, 0).g;
+        vec4 normalRough = texelFetch(normalTex, pixel, 0);
+        float flags = texelFetch(emissiveTex, pixel, 0).a;
+        PixelMaterial m = pixelMaterial(flags, normalRough.w);
+        vec2 px = vec2(pixel) + 0.5;
+        vec3 p = worldAt(px, depth);
+        vec3 v = normalize(p - rfm.eye);
+        vec3 n = normalize(normalRough.xyz);
+        vec3 mirror = reflect(v, n);
+        vec3 r = kStochastic != 0u ? stochasticDirection(pixel, v, n, m.roughness) : mirror;
+        // Rays the camera fade zeroes are not traced (the resolve would weigh their hits by 0), nor
+        // those of pixels a planar probe serves (its mirrored image takes them whole).
+        bool visible = cameraFade(dot(r, v)) > 0.0;
+        bool planar = planarServes(depth, m, p, n);
+        if (depth > 0.0 && m.reflective && m.screenSpace && m.roughness <= m.maxScreenSpace && visible && !planar) {
+            ScreenRay ray = screenRay(px, depth, p, r);
+            if (ray.tMax > 0.0 && finite3(ray.d)) {
+                vec3 traced = kTraceMode == 0u ? traceHiZ(ray) : traceLinear(ray);
+                float miss = traced.y == -2.0 && ray.faded ? -5.0 : traced.y;
+                result = traced.y == 0.0 ? hitAt(ray, traced.x, int(traced.z)) : vec4(-1.0, -1.0, miss, traced.z);
+            }
         }
+        imageStore(hitOut, out_, result);
+        cmo = inCmoBand(depth, m, planar) && !screenCovers(result, p, mirror, v, m);
     }
-    imageStore(hitOut, out_, result);
+    if (kTileMode != kTileModeWork) return;
+    // The tile's CMO list (cmo_trace.comp runs the same test per pixel).
+    barrier();
+    if (cmo) atomicOr(needsCmo, 1u);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        uint list = needsCmo != 0u ? kListCmo : kListCmoFill;
+        uint i = atomicAdd(tiles.args[list].x, 1u);
+        tiles.entries[i * kTileLists + list] = tiles.entries[gl_WorkGroupID.x * kTileLists + kListTrace];
+    }
 }
