@@ -171,6 +171,8 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
             std::array<glm::uvec4, shader::kTileLists> header;
             header.fill(glm::uvec4(0u, 1u, 1u, 0u));
             vkCmdUpdateBuffer(pc.cmd(), pc.buffer(d.tiles), 0, headerBytes, header.data());
+            // The entries, for the arrival words (tiles.h, kListArrivals).
+            vkCmdFillBuffer(pc.cmd(), pc.buffer(d.tiles), headerBytes, VK_WHOLE_SIZE, 0u);
         });
     struct Data {
         TextureHandle hiz, normal, emissive, guide, planar;

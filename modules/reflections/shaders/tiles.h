@@ -27,7 +27,9 @@ SPECULUM_CONSTANT(uint, kListCmoFill, 3u);     // none may
 SPECULUM_CONSTANT(uint, kListResolveRay, 4u);  // some pixel resolves a screen-space ray (= kListTrace)
 SPECULUM_CONSTANT(uint, kListLookup, 5u);      // reflective pixels, none with a ray: probes, CMOs, sky only
 SPECULUM_CONSTANT(uint, kListResolveFill, 6u); // nothing reflects
-SPECULUM_CONSTANT(uint, kListUnused, 7u);
+// Not a list: entries[t * kTileLists + kListArrivals] is tile t's (row-major index) word that
+// reflections.classify gathers its subgroups' needs in (zeroed by reflections.tile_clear).
+SPECULUM_CONSTANT(uint, kListArrivals, 7u);
 
 // How a per-pixel pass's pipeline is dispatched (its specialization constant kTileMode, id 310).
 SPECULUM_CONSTANT(uint, kTileModeScreen, 0u);  // over the whole screen (reflections.tiles off)
