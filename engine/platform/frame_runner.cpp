@@ -159,8 +159,11 @@ FrameResult FrameRunner::render(const render::FrameInputs& frame, const std::vec
         auto it = moduleRequest.provided.find(a);
         if (it == moduleRequest.provided.end()) {
             const ModuleInfo& module = *aovProvider(litHook.modules, a);
-            throw argumentError("AOV '" + a + "' comes from the " + module.name + " module, which is off for this frame" +
-                                (module.enableSetting.empty() ? "" : " (" + module.enableSetting + "=false)"));
+            // Off, or on with nothing for the AOV to show (the cmo AOV of a scene without CMOs).
+            throw argumentError("AOV '" + a + "' comes from the " + module.name + " module, which does not make it " +
+                                "this frame: the module is off" +
+                                (module.enableSetting.empty() ? "" : " (" + module.enableSetting + "=false)") +
+                                " or the scene has nothing that AOV shows");
         }
         sources[a] = it->second;
     }
