@@ -574,6 +574,7 @@ void EditorApp::renderFrame() {
     uint32_t ih = std::max(16u, uint32_t(std::lround(view_.h * scale_)));
     Viewport::FrameRequest request;
     request.camera = camera_.state(iw, ih);
+    request.interactive = !full;
     auto toInternal = [&](glm::ivec2 fraction) {
         return glm::ivec2(int(float(fraction.x) * 1e-6f * float(iw)), int(float(fraction.y) * 1e-6f * float(ih)));
     };

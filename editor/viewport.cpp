@@ -4,6 +4,7 @@
 #include "speculum/core.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <cmath>
 #include <limits>
 
@@ -76,6 +77,21 @@ void Viewport::updateProbes(const probes::Probes::Progress& progress) {
     if (chain_->update(doc_.settings(), progress)) bakePending_ = false;
 }
 
+const Settings& Viewport::interactiveSettings() {
+    if (interactiveOverlay_.is_null()) {
+        const std::string file = std::string(SPECULUM_SOURCE_DIR) + "/assets/settings/low.json";
+        std::ifstream in(file);
+        nlohmann::json low = nlohmann::json::parse(in, nullptr, false);
+        interactiveOverlay_ = nlohmann::json::object();
+        if (low.is_object())
+            for (const auto& [key, value] : low.items())
+                if (key.rfind("reflections.", 0) == 0) interactiveOverlay_[key] = value;
+    }
+    interactive_ = doc_.settings();
+    interactive_->fromJson(interactiveOverlay_, "assets/settings/low.json");
+    return *interactive_;
+}
+
 app::FrameResult Viewport::render(const FrameRequest& request, const app::PresentHook& present, VkSemaphore wait,
                                   VkSemaphore signal) {
     if (request.camera.width != width_ || request.camera.height != height_) {
@@ -99,7 +115,7 @@ app::FrameResult Viewport::render(const FrameRequest& request, const app::Presen
     if (inspect)
         for (const char* a : {"method", "iterations", "roughness", "reflection"}) aovs.push_back(a);
     if (request.screenshot) aovs.push_back("color");
-    app::LitHook inner = chain_->litHook(doc_.settings(), frame_);
+    app::LitHook inner = chain_->litHook(request.interactive ? interactiveSettings() : doc_.settings(), frame_);
     app::LitHook hook = inner;
     hook.modules.push_back(editorModuleInfo());
     hook.addPasses = [inner](FrameGraph& g, const render::GBuffer& gbuffer, TextureHandle lit, app::ModuleAovs& a) {
