@@ -12,6 +12,8 @@
 #include "speculum/chain.hpp"
 #include "speculum/render/renderer.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <map>
 #include <memory>
 #include <optional>
