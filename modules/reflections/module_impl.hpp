@@ -36,12 +36,21 @@ struct ReflectionHistory {
     gpu::HistoryImages depth;
     gpu::HistoryImages reflection;
     gpu::HistoryImages normal;
+    // reflections.ray_budget=quarter: the refreshed reflection and its normals (refresh.comp),
+    // made on the first frame that asks for them.
+    gpu::HistoryImages refresh;
+    gpu::HistoryImages refreshNormal;
     uint32_t width = 0, height = 0;
     bool valid() const { return color.history().valid() && depth.history().valid(); }
     bool temporalValid() const {
         return depth.history().valid() && reflection.history().valid() && normal.history().valid();
     }
+    bool refreshValid() const {
+        return depth.history().valid() && refresh.history().valid() && refreshNormal.history().valid();
+    }
     void invalidate() {
+        refresh.history().invalidate();
+        refreshNormal.history().invalidate();
         color.history().invalidate();
         depth.history().invalidate();
         reflection.history().invalidate();
@@ -52,7 +61,7 @@ struct ReflectionHistory {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, temporal;
+    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, temporal, refresh;
     BilateralUpsampler upsampler;
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
@@ -69,9 +78,9 @@ struct Reflections::Impl {
     // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
     std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> cmoTraces;
     const gpu::Pipeline& cmoTrace(Resolution resolution, bool linear, uint32_t tileMode);
-    // reflections.classify per resolution.
-    std::array<std::optional<gpu::Pipeline>, 2> classifies;
-    const gpu::Pipeline& classify(Resolution resolution);
+    // reflections.classify per resolution and ray budget.
+    std::array<std::optional<gpu::Pipeline>, 4> classifies;
+    const gpu::Pipeline& classify(Resolution resolution, RayBudget budget);
     const gpu::Pipeline& composite(DebugView view, bool temporal);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -98,9 +107,10 @@ struct Reflections::Impl {
     HistoryHandles historyColor, historyDepth, historyReflection, historyNormal;
 
     Impl(const gpu::Context& c, render::Renderer& r);
-    void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,
-                       uint32_t levels);
-    void ensureHistory(uint32_t w, uint32_t h);
+    // s: what the passes run with; asked: the host's settings (a change of them resets the histories).
+    void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, const ReflectionSettings& asked,
+                       uint32_t w, uint32_t h, uint32_t levels);
+    void ensureHistory(uint32_t w, uint32_t h, bool refreshImages);
 
     // Passes, in frame order (passes.cpp).
     TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels);
@@ -132,6 +142,11 @@ struct Reflections::Impl {
                      ReflectionOutputs& out);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                     ReflectionOutputs& out);
+    // reflections.refresh (ray_budget=quarter): the upsampled reflection with each pixel's own last
+    // traced value where its history holds (refresh.comp); returns the refreshed image.
+    TextureHandle addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle upsampled,
+                             const ReflectionOutputs& out, TextureHandle half);
+    HistoryHandles historyRefresh, historyRefreshNormal;
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
     // image. `distance`: the reflected distance at the trace's size (ReflectionOutputs::distance).
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle reflection,

@@ -193,13 +193,13 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
             data.guide = b.write(b.create(half ? "reflections.guide" : "reflections.no_guide", desc),
                                  TextureUsage::StorageWrite);
         },
-        [this, half, traceW, traceH](const Data& data, PassContext& pc) {
+        [this, half, traceW, traceH, budget = s.rayBudget](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.buffer("tiles", pc.buffer(data.tiles))
                 .storage("guideOut", pc.view(data.guide))
                 .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
                 .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
-            dispatch(pc, classify(half ? Resolution::Half : Resolution::Full), w, {traceW, traceH});
+            dispatch(pc, classify(half ? Resolution::Half : Resolution::Full, budget), w, {traceW, traceH});
         });
     return {d.tiles, half ? d.guide : TextureHandle{}};
 }
@@ -419,6 +419,49 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             dispatch(pc, composite(view, temporal), w, pc.extent(data.dst));
         });
     return {d.dst, separate ? d.plain : d.dst};
+}
+
+TextureHandle Reflections::Impl::addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
+                                            TextureHandle upsampled, const ReflectionOutputs& out, TextureHandle half) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, motion, upsampled, half, guide, distance, history, historyNormal,
+            historyDepth, dst, dstNormal;
+    };
+    historyRefresh = g.importHistory("reflections.history.refresh", history.refresh.history());
+    historyRefreshNormal = g.importHistory("reflections.history.refresh_normal", history.refreshNormal.history());
+    const auto& d = g.addPass<Data>(
+        "reflections.refresh", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+            data.upsampled = b.read(upsampled, TextureUsage::Sampled);
+            data.half = b.read(half, TextureUsage::Sampled);
+            data.guide = b.read(out.guide, TextureUsage::Sampled);
+            data.distance = b.read(out.distance, TextureUsage::Sampled);
+            data.history = b.read(historyRefresh.previous, TextureUsage::Sampled);
+            data.historyNormal = b.read(historyRefreshNormal.previous, TextureUsage::Sampled);
+            data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+            data.dst = b.write(historyRefresh.current, TextureUsage::StorageWrite);
+            data.dstNormal = b.write(historyRefreshNormal.current, TextureUsage::StorageWrite);
+        },
+        [this](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled("motionTex", pc.view(data.motion), nearest)
+                .sampled("upsampledTex", pc.view(data.upsampled), nearest)
+                .sampled("halfTex", pc.view(data.half), nearest)
+                .sampled("guideTex", pc.view(data.guide), nearest)
+                .sampled("distanceTex", pc.view(data.distance), nearest)
+                .sampled("historyTex", pc.view(data.history), nearest)
+                .sampled("historyNormal", pc.view(data.historyNormal), nearest)
+                .sampled("historyDepth", pc.view(data.historyDepth), nearest)
+                .storage("refreshedOut", pc.view(data.dst))
+                .storage("normalOut", pc.view(data.dstNormal));
+            dispatch(pc, refresh, w, pc.extent(data.dst));
+        });
+    g.markOutput(d.dstNormal);
+    return d.dst;
 }
 
 TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,

@@ -44,6 +44,7 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", 0, "reflections.color_pyramid")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", 0, "reflections.hiz_view")),
       temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", 0, "reflections.temporal")),
+      refresh(gpu::createComputePipeline(c, "reflections/refresh.comp", 0, "reflections.refresh")),
       upsampler(c),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       trilinear(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
@@ -101,8 +102,8 @@ probes::PlanarSet Reflections::Impl::importNoPlanar(FrameGraph& g) const {
     return set;
 }
 
-void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, uint32_t w, uint32_t h,
-                                      uint32_t levels) {
+void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s,
+                                      const ReflectionSettings& asked, uint32_t w, uint32_t h, uint32_t levels) {
     const render::CameraState& cam = in.frame.camera;
     FrameUniforms u{};
     u.viewProj = cam.viewProj;
@@ -151,7 +152,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     const glm::vec3 forward = -glm::vec3(glm::transpose(cam.view)[2]);
     const glm::vec3 previousForward = -glm::vec3(glm::transpose(in.frame.previousCamera.view)[2]);
     bool cut = glm::dot(forward, previousForward) < std::cos(glm::radians(45.0f));
-    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == s && bouncesFilled && !cut ? 1u : 0u;
+    u.temporalValid = history.temporalValid() && lastSettings && *lastSettings == asked && bouncesFilled && !cut ? 1u : 0u;
     u.traceMode = uint32_t(s.trace);
     u.coverageMode = uint32_t(s.coverage);
     u.historyValid = history.valid() ? 1u : 0u;
@@ -169,10 +170,29 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.cmoMaxRoughness = s.cmoMaxRoughness;
     u.cmoPassBehind = s.cmoPassBehind ? 1u : 0u;
     u.planarCount = s.probes && in.probes.planar.records.valid() ? in.probes.planar.count : 0u;
+    u.refreshValid = history.refreshValid() && lastSettings && *lastSettings == asked && !cut ? 1u : 0u;
+    // Moved beyond rounding: a camera path interpolating between two equal keys (glm::mix) gives
+    // matrices an ulp apart, and clipping a still camera's history stops ray_budget=quarter from
+    // reaching the full-rate image (tests/stability, ray_budget).
+    float largest = 0.0f, change = 0.0f;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            largest = std::max(largest, std::abs(cam.viewProj[c][r]));
+            change = std::max(change, std::abs(cam.viewProj[c][r] - in.frame.previousCamera.viewProj[c][r]));
+        }
+    u.cameraMoved = change > 1e-5f * largest ? 1u : 0u;
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 
-void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h) {
+void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, bool refreshImages) {
+    constexpr VkImageUsageFlags kRefreshUsage =
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    if (refreshImages && (history.refresh.desc().width != w || history.refresh.desc().height != h)) {
+        history.refresh = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kRefreshUsage},
+                                             "reflections.history.refresh");
+        history.refreshNormal = gpu::HistoryImages(
+            ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kRefreshUsage}, "reflections.history.refresh_normal");
+    }
     if (history.width == w && history.height == h) return;
     history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
     history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
@@ -263,11 +283,11 @@ const gpu::Pipeline& Reflections::Impl::cmoTrace(Resolution resolution, bool lin
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::classify(Resolution resolution) {
-    std::optional<gpu::Pipeline>& p = classifies.at(size_t(resolution));
+const gpu::Pipeline& Reflections::Impl::classify(Resolution resolution, RayBudget budget) {
+    std::optional<gpu::Pipeline>& p = classifies.at(size_t(resolution) * 2 + size_t(budget));
     if (!p)
         p = gpu::createComputePipeline(ctx, "reflections/classify.comp", 0, "reflections.classify",
-                                       {0u, uint32_t(resolution)});
+                                       {0u, uint32_t(resolution), uint32_t(budget)});
     return *p;
 }
 
@@ -293,9 +313,14 @@ const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal)
     return *p;
 }
 
-ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& given, const ReflectionSettings& s,
-                                         bool hizView) {
+ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& given,
+                                         const ReflectionSettings& asked, bool hizView) {
     Impl& m = *impl_;
+    // A quarter ray budget traces on the half-size grid: `s` is what the passes run with, `asked`
+    // what a change of resets the history.
+    const bool quarter = asked.rayBudget == RayBudget::Quarter;
+    ReflectionSettings s = asked;
+    if (quarter) s.resolution = Resolution::Half;
     // Without probes (or planar probes) from the host, the passes bind the dummies, imported once.
     ReflectionInputs in = given;
     if (!in.probes.cubes.valid()) {
@@ -307,8 +332,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     }
     uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
     uint32_t levels = pyramidLevels(w, h);
-    m.ensureHistory(w, h);
-    m.writeUniforms(in, s, w, h, levels);
+    m.ensureHistory(w, h, quarter);
+    m.writeUniforms(in, s, asked, w, h, levels);
 
     ReflectionOutputs out;
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
@@ -319,6 +344,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     out.hit = m.addTrace(graph, in, out.hiz, tiles, s);
     if (s.cmos && in.probes.cmos.records.valid() && in.probes.cmos.count > 0) m.addCmoTrace(graph, in, tiles, s, out);
     m.addResolve(graph, in, tiles, s, out);
+    const TextureHandle halfReflection = out.reflection;
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
         UpsampleInputs up{in.gbuffer.depth, in.gbuffer.normal, guide, out.reflection, cam.invViewProj, cam.position};
@@ -327,13 +353,14 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
         up.low = out.method;
         out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");
     }
+    if (quarter && guide.valid()) out.reflection = m.addRefresh(graph, in, out.hiz, out.reflection, out, halfReflection);
     TextureHandle raw = out.reflection;
     if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, out.distance);
     Impl::Composited composited = m.addComposite(graph, in, out, s.debugView, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);
-    m.lastSettings = s;
+    m.lastSettings = asked;
     ++m.frameIndex;
     return out;
 }

@@ -93,6 +93,11 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "Classify 8x8 tiles by what their pixels need (a screen-space ray, the CMOs, a probe and sky "
          "lookup, nothing) and run the trace, the CMO trace and the resolve only where needed, by "
          "indirect dispatch; off: each over the whole screen (the same image, the A/B baseline)."}),
+        bind<&R::rayBudget>({"reflections.ray_budget", T::Enum, "", 0, 1, 0, {"full", "quarter"},
+         "Screen-space rays per frame: one per pixel, or one per 2x2 block (the half-size grid, "
+         "whatever reflections.resolution says) whose pixel rotates over four frames; the other "
+         "three pixels keep their last traced value where the history is valid (a still camera "
+         "reaches the full-rate image in four frames) and take the bilateral upsampling elsewhere."}),
         bind<&R::glossy>({"reflections.glossy", T::Enum, "", 0, 1, 0, {"cone", "stochastic"},
          "Glossy reflections by cone tracing the mirror ray's hit in the colour pyramid, or by one "
          "GGX visible-normal sample per pixel with neighbour ray reuse (pair it with temporal)."}),

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Temporal stability where the methods fail (issue 13; ctest label `stability`).
 
-    stability_test.py CAPTURE ROOT OUTDIR finite|ghost|converge
+    stability_test.py CAPTURE ROOT OUTDIR finite|ghost|converge|ray_budget
 
 finite    camera paths through the failure cases (assets/paths/failure_cases.json) for every
           resolution, glossy mode and temporal setting: no NaN or Inf in the reflection AOV of
@@ -17,6 +17,11 @@ converge  a still camera with temporal accumulation converges within 16 frames t
           without it: the 16th frame's colour against the un-accumulated 16th frame's, with the
           golden tolerances of tests/capture/golden_test.sh (idiff -fail 0.02 -failpercent 0.5
           -hardfail 0.25), at full and half resolution.
+ray_budget  a still camera with reflections.ray_budget=quarter (a ray per 2x2 per frame, rotating)
+          reaches the full-rate image within 16 frames: the 16th frame's colour against the
+          full-rate 16th frame's with the golden tolerances, on the failure cases and the gallery
+          (whose chrome sphere's reflections of reflections take the longest). Its power: half
+          resolution without the refresh, the same rays in one frame, must fail the same bound.
 """
 import json, math, os, subprocess, sys, tempfile
 
@@ -32,6 +37,8 @@ CONFIGS = {
     "stochastic+temporal": ["reflections.glossy=stochastic", "reflections.temporal=true"],
     "half+stochastic+temporal": ["reflections.resolution=half", "reflections.glossy=stochastic",
                                  "reflections.temporal=true"],
+    "quarter": ["reflections.ray_budget=quarter"],
+    "quarter+temporal": ["reflections.ray_budget=quarter", "reflections.temporal=true"],
 }
 
 
@@ -137,11 +144,42 @@ def converge(exe, root, out, tmp):
         sys.exit("the accumulated image has not converged to the un-accumulated one: " + ", ".join(failures))
 
 
+def golden_close(a, b):
+    r = subprocess.run(["idiff", "-fail", "0.02", "-failpercent", "0.5", "-hardfail", "0.25", a, b],
+                       capture_output=True, text=True)
+    return r.returncode < 2, r.stdout.strip()
+
+
+def ray_budget(exe, root, out, tmp):
+    failures = []
+    views = {"failure_cases": ([0.0, 1.0, 3.2], [0.0, 0.1, -2.0]), "gallery": ([0.5, 1.7, 3.6], [-0.8, 0.7, -2.0])}
+    for scene, cam in views.items():
+        path = os.path.join(tmp, f"{scene}_still.json")
+        write_path(path, [cam, cam], 16)
+        file = os.path.join(root, f"assets/scenes/{scene}.gltf")
+        frame = {}
+        for name, sets in (("full", []), ("quarter", ["reflections.ray_budget=quarter"]),
+                           ("half", ["reflections.resolution=half"])):
+            d = os.path.join(out, "ray_budget", scene, name)
+            capture(exe, file, path, sets, "color", d)
+            frame[name] = os.path.join(d, "color.0015.png")
+        ok, text = golden_close(frame["quarter"], frame["full"])
+        print(f"{scene}: quarter against full after 16 frames: {'within' if ok else 'OUTSIDE'} the golden tolerances\n{text}")
+        if not ok:
+            failures.append(f"{scene}: quarter has not reached the full-rate image")
+        ok, text = golden_close(frame["half"], frame["full"])
+        print(f"{scene}: half (no refresh) against full: {'within' if ok else 'outside'} the tolerances\n{text}")
+        if ok:
+            failures.append(f"{scene}: half resolution passes too, so this view cannot tell the refresh works")
+    if failures:
+        sys.exit("ray_budget: " + "; ".join(failures))
+
+
 def main():
     exe, root, out, which = sys.argv[1:5]
     os.makedirs(out, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
-        {"finite": finite, "ghost": ghost, "converge": converge}[which](exe, root, out, tmp)
+        {"finite": finite, "ghost": ghost, "converge": converge, "ray_budget": ray_budget}[which](exe, root, out, tmp)
     print("ok")
 
 

@@ -29,6 +29,14 @@ layout(set = 0, binding = 2) uniform sampler2D normalTex;   // xyz normal, w rou
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex; // a: flags | material index
 layout(set = 0, binding = 6, rgba32f) uniform writeonly image2D guideOut;  // half only
 layout(constant_id = 1) const uint kHalf = 0u;
+// reflections.ray_budget=quarter: the half pixel's choice rotates over its 2x2 frame by frame.
+layout(constant_id = 2) const uint kQuarter = 0u;
+// The rotation's start per frame, a 2x2 Bayer order (0, 3, 1, 2: diagonal pixels apart), offset
+// per half pixel so that neighbouring blocks refresh different corners in the same frame.
+int rotationStart(ivec2 halfPixel) {
+    const int kOrder[4] = int[](0, 3, 1, 2);
+    return kOrder[(int(rf.frameIndex) + (halfPixel.x & 1) + 2 * (halfPixel.y & 1)) & 3];
+}
 #define SPECULUM_REFLECTIONS_GUIDE_CHOOSE
 #include "reflections/shaders/guide.glsl"
 
@@ -48,7 +56,7 @@ void main() {
         vec4 normalRough;
         float flags;
         if (kHalf != 0u) {
-            GuideChoice c = chooseGuidePixel(out_);
+            GuideChoice c = chooseGuidePixel(out_, kQuarter != 0u ? rotationStart(out_) : -1);
             pixel = c.pixel;
             depth = c.depth;
             normalRough = c.normalRough;

@@ -71,9 +71,10 @@ SPECULUM_BLOCK(layout(set = 0, binding = 0, std140) readonly buffer, ReflectionF
     uint cmoPassBehind;  // reflections.cmo_unresolved: 1 pass_behind (cmo_trace.comp)
     // Planar probes (modules/probes/shaders/planar.glsl), after screen space, before the CMOs.
     uint planarCount;  // planar probes rendered for this view (0: off or none)
-    uint reserved0;    // std140 pads the block to 16 bytes: named so C++ matches it
-    uint reserved1;
-    uint reserved2;
+    // reflections.ray_budget=quarter (modules/reflections/shaders/refresh.comp).
+    uint refreshValid;  // the refreshed history and its normals are this frame's previous
+    uint cameraMoved;   // the view or projection differs from the previous frame's
+    uint reserved2;     // std140 pads the block to 16 bytes: named so C++ matches it
 } SPECULUM_BLOCK_INSTANCE(rf);
 
 SPECULUM_SHADER_NAMESPACE_END

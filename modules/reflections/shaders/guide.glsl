@@ -73,10 +73,14 @@ struct GuideChoice {
     bool reflective;
 };
 
-GuideChoice chooseGuidePixel(ivec2 halfPixel) {
+// first >= 0 (reflections.ray_budget=quarter): the 2x2's reflective pixel at or after index
+// `first` in the order 0, 1, 2, 3 (cyclic) instead, so that as `first` rotates frame by frame each
+// reflective pixel of the block is chosen at least once every four frames.
+GuideChoice chooseGuidePixel(ivec2 halfPixel, int first) {
     ivec2 fullSize = ivec2(rf.size.xy);
     bool closest = ((halfPixel.x + halfPixel.y) & 1) == 0;
     GuideChoice best;
+    best.index = 0;
     best.depth = -1.0;
     best.reflective = false;
     // A straight loop body over the four (lavapipe runs every branch for all lanes anyway).
@@ -86,8 +90,11 @@ GuideChoice chooseGuidePixel(ivec2 halfPixel) {
         vec4 normalRough = texelFetch(normalTex, p, 0);
         float flags = texelFetch(emissiveTex, p, 0).a;
         bool reflective = pixelMaterial(flags, normalRough.w).reflective && depth > 0.0;
-        bool better = best.depth < 0.0 || (reflective && !best.reflective) ||
-                      (reflective == best.reflective && (closest ? depth > best.depth : depth < best.depth));
+        // The rotation's distance from `first`: smaller is preferred among reflective pixels.
+        int after = (i - first) & 3, bestAfter = (best.index - first) & 3;
+        bool order = first >= 0 ? after < bestAfter
+                                : (closest ? depth > best.depth : depth < best.depth);
+        bool better = best.depth < 0.0 || (reflective && !best.reflective) || (reflective == best.reflective && order);
         if (better) {
             best.index = i;
             best.pixel = p;

@@ -30,6 +30,9 @@ enum class TraceMode : uint32_t { HiZ = 0, Linear = 1 };
 enum class CoverageMode : uint32_t { Hit = 0, Visibility = 1 };
 // reflections.resolution: where trace and resolve run (the upsampler brings half to full).
 enum class Resolution : uint32_t { Full = 0, Half = 1 };
+// reflections.ray_budget: a ray per pixel each frame, or one per 2x2 rotating over four frames
+// (the half-size grid; reflections.refresh takes the rest from the history).
+enum class RayBudget : uint32_t { Full = 0, Quarter = 1 };
 // reflections.glossy: cone-traced mirror hit, or GGX samples reused across neighbours.
 enum class GlossyMode : uint32_t { Cone = 0, Stochastic = 1 };
 // reflections.cmo_trace: the min/max hierarchy per face, or constant steps (the baseline).
@@ -77,6 +80,7 @@ struct ReflectionSettings {
     bool cmoPassBehind;  // reflections.cmo_unresolved=pass_behind
     Resolution resolution;
     bool tiles;  // reflections.classify's tile lists drive trace, cmo_trace and resolve
+    RayBudget rayBudget;  // quarter: traces on the half-size grid whatever `resolution` says
     GlossyMode glossy;
     bool temporal;
     float temporalAlpha;

@@ -1,0 +1,102 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// reflections.refresh (reflections.ray_budget=quarter): a ray per 2x2 block per frame, amortized
+// over four. The trace, CMO trace and resolve ran on the half-size grid, each half pixel at the
+// full pixel of its block that reflections.classify chose this frame (the choice rotates, so every
+// reflective pixel is chosen at least once in four frames; guide.glsl). Here, per full pixel:
+//   - the pixel chosen this frame takes its resolved value as it is (the same ray and cone as at
+//     full rate: trace and resolve work in full-resolution pixel coordinates);
+//   - any other keeps its own last value, reprojected by its surface (and by the reflected point
+//     on sharp surfaces, as reflections.temporal does) where the previous frame saw the same
+//     surface with the same normal and roughness. On a still camera nothing is clipped: each
+//     pixel then holds its own traced value within four frames and the image is the full-rate
+//     one (tests/stability/ray_budget_test.py). While the camera moves the history is clipped to
+//     the upsampled neighbourhood, so that a stale value is never further off than upsampling;
+//   - where there is no such history (disocclusion, the first frames), the joint bilateral
+//     upsampling of the half-size image, as reflections.resolution=half gives.
+// No pixel's value is older than three frames: objects moving under a still camera lag that much.
+// Frostbite's stochastic SSR (Stachowiak 2015) and Lumen amortize rays the same way.
+#include "reflections/shaders/common.glsl"
+#include "reflections/shaders/material.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1) uniform sampler2D hiz;            // level 0 .g: depth
+layout(set = 0, binding = 2) uniform sampler2D normalTex;      // xyz normal, w roughness
+layout(set = 0, binding = 3) uniform sampler2D emissiveTex;    // a: flags | material index
+layout(set = 0, binding = 5) uniform sampler2D motionTex;      // uv - previous uv
+layout(set = 0, binding = 6) uniform sampler2D upsampledTex;   // full: the bilateral upsampling
+layout(set = 0, binding = 7) uniform sampler2D halfTex;        // half: the resolve's reflection
+layout(set = 0, binding = 8) uniform sampler2D guideTex;       // half: guidePixel()
+layout(set = 0, binding = 9) uniform sampler2D distanceTex;    // half: reflected distance (resolve)
+layout(set = 0, binding = 10) uniform sampler2D historyTex;    // texelFetch: last frame's refreshed
+layout(set = 0, binding = 11) uniform sampler2D historyNormal; // texelFetch: xyz normal, w roughness (< 0 none)
+layout(set = 0, binding = 12) uniform sampler2D historyDepth;  // texelFetch
+layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D refreshedOut;
+layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D normalOut;
+
+bool insideUV(vec2 uv) {
+    return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)));
+}
+
+bool sameSurfaceThere(ivec2 prevPixel, vec3 n, float roughness, float minCos) {
+    vec4 prev = texelFetch(historyNormal, prevPixel, 0);
+    return prev.w >= 0.0 && dot(prev.xyz, n) > minCos && abs(prev.w - roughness) < 0.1;
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = ivec2(rf.size.xy);
+    if (any(greaterThanEqual(pixel, size))) return;
+    float depth;
+    vec4 normalRough;
+    PixelMaterial m = readSurface(hiz, normalTex, emissiveTex, pixel, depth, normalRough);
+    if (!(depth > 0.0 && m.reflective)) {
+        imageStore(refreshedOut, pixel, vec4(0.0));
+        imageStore(normalOut, pixel, vec4(0.0, 0.0, 0.0, -1.0));
+        return;
+    }
+    vec3 n = normalize(normalRough.xyz);
+    ivec2 halfPixel = min(pixel >> 1, ((size + 1) >> 1) - 1);
+    bool fresh = all(equal(guidePixel(halfPixel, texelFetch(guideTex, halfPixel, 0)), pixel));
+    vec4 result = fresh ? texelFetch(halfTex, halfPixel, 0) : texelFetch(upsampledTex, pixel, 0);
+    if (!fresh && rf.refreshValid != 0u) {
+        vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
+        vec3 p = worldAt(vec2(pixel) + 0.5, depth);
+        vec2 prevS = uv - texelFetch(motionTex, pixel, 0).rg;
+        vec4 prevClip = rfm.prevViewProj * vec4(p, 1.0);
+        float expected = linearDepth(prevClip.z / prevClip.w);
+        ivec2 prevSPixel = ivec2(floor(prevS * rf.size.xy));
+        bool validS = insideUV(prevS) &&
+                      abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
+                      sameSurfaceThere(prevSPixel, n, m.roughness, 0.9);
+        vec3 h = validS ? texelFetch(historyTex, prevSPixel, 0).rgb : vec3(0.0);
+        // Moving: the camera (beyond rounding) or this pixel's surface (its motion vector).
+        bool moving = rf.cameraMoved != 0u || any(greaterThan(abs(prevS - uv) * rf.size.xy, vec2(0.01)));
+        if (validS && moving) {
+            // The reflected point's previous position for sharp surfaces (temporal.comp's rule).
+            float dist = texelFetch(distanceTex, halfPixel, 0).r;
+            float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
+            if (dist > 0.0 && sharp > 0.0) {
+                vec3 viewDir = normalize(p - rfm.eye);
+                vec4 virt = dist >= kSkyDistance ? vec4(viewDir, 0.0) : vec4(p + viewDir * dist, 1.0);
+                vec4 clip = rfm.prevViewProj * virt;
+                vec2 prevV = clip.w > 0.0 ? ndcToUV(clip.xy / clip.w) : vec2(-1.0);
+                ivec2 prevVPixel = ivec2(floor(prevV * rf.size.xy));
+                if (insideUV(prevV) && sameSurfaceThere(prevVPixel, n, m.roughness, 0.95))
+                    h = mix(h, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
+            }
+            // Clipped to the upsampled 3x3 neighbourhood, this pixel's upsampled value included.
+            vec3 lo = result.rgb, hi = result.rgb;
+            for (int i = 0; i < 9; ++i) {
+                vec3 c = texelFetch(upsampledTex, clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), size - 1), 0).rgb;
+                lo = min(lo, c);
+                hi = max(hi, c);
+            }
+            h = clamp(h, lo, hi);
+        }
+        if (validS && finite3(h)) result.rgb = max(h, vec3(0.0));
+    }
+    imageStore(refreshedOut, pixel, result);
+    imageStore(normalOut, pixel, vec4(n, m.roughness));
+}
