@@ -142,10 +142,11 @@ struct Reflections::Impl {
                      ReflectionOutputs& out);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                     ReflectionOutputs& out);
-    // reflections.refresh (ray_budget=quarter): the upsampled reflection with each pixel's own last
-    // traced value where its history holds (refresh.comp); returns the refreshed image.
-    TextureHandle addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle upsampled,
-                             const ReflectionOutputs& out, TextureHandle half);
+    // reflections.refresh (ray_budget=quarter): from the half-size reflection `half`, each pixel's
+    // own last traced value where its history holds, else the bilateral upsampling (refresh.comp);
+    // returns the full-size refreshed image.
+    TextureHandle addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionOutputs& out,
+                             TextureHandle half);
     HistoryHandles historyRefresh, historyRefreshNormal;
     // Accumulates `reflection` (full size) over frames into the history; returns the accumulated
     // image. `distance`: the reflected distance at the trace's size (ReflectionOutputs::distance).

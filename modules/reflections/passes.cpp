@@ -422,9 +422,9 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
 }
 
 TextureHandle Reflections::Impl::addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
-                                            TextureHandle upsampled, const ReflectionOutputs& out, TextureHandle half) {
+                                            const ReflectionOutputs& out, TextureHandle half) {
     struct Data {
-        TextureHandle hiz, normal, emissive, motion, upsampled, half, guide, distance, history, historyNormal,
+        TextureHandle hiz, normal, emissive, motion, half, guide, distance, history, historyNormal,
             historyDepth, dst, dstNormal;
     };
     historyRefresh = g.importHistory("reflections.history.refresh", history.refresh.history());
@@ -436,20 +436,19 @@ TextureHandle Reflections::Impl::addRefresh(FrameGraph& g, const ReflectionInput
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
-            data.upsampled = b.read(upsampled, TextureUsage::Sampled);
             data.half = b.read(half, TextureUsage::Sampled);
             data.guide = b.read(out.guide, TextureUsage::Sampled);
             data.distance = b.read(out.distance, TextureUsage::Sampled);
             data.history = b.read(historyRefresh.previous, TextureUsage::Sampled);
             data.historyNormal = b.read(historyRefreshNormal.previous, TextureUsage::Sampled);
             data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
-            data.dst = b.write(historyRefresh.current, TextureUsage::StorageWrite);
+            TextureHandle dst = historyRefresh.current;
+            data.dst = b.write(dst, TextureUsage::StorageWrite);
             data.dstNormal = b.write(historyRefreshNormal.current, TextureUsage::StorageWrite);
         },
         [this](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.sampled("motionTex", pc.view(data.motion), nearest)
-                .sampled("upsampledTex", pc.view(data.upsampled), nearest)
                 .sampled("halfTex", pc.view(data.half), nearest)
                 .sampled("guideTex", pc.view(data.guide), nearest)
                 .sampled("distanceTex", pc.view(data.distance), nearest)

@@ -348,12 +348,13 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     if (guide.valid()) {
         const render::CameraState& cam = in.frame.camera;
         UpsampleInputs up{in.gbuffer.depth, in.gbuffer.normal, guide, out.reflection, cam.invViewProj, cam.position};
-        out.reflection = m.upsampler.addPass(graph, up, "reflections.upsample", "reflections.reflection");
+        // A quarter budget's refresh upsamples the reflection itself, where it needs to.
+        out.reflection = quarter ? m.addRefresh(graph, in, out.hiz, out, halfReflection)
+                                 : m.upsampler.addPass(graph, up, "reflections.upsample", "reflections.reflection");
         // Culled unless the method AOV or a debug view reads it.
         up.low = out.method;
         out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");
     }
-    if (quarter && guide.valid()) out.reflection = m.addRefresh(graph, in, out.hiz, out.reflection, out, halfReflection);
     TextureHandle raw = out.reflection;
     if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, out.distance);
     Impl::Composited composited = m.addComposite(graph, in, out, s.debugView, s.temporal ? raw : TextureHandle{});

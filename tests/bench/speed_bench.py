@@ -7,7 +7,7 @@ speculum-capture's timings.json; medians over rounds).
                    [--rounds 2] [--frames 4] [--config NAME=KEY=VALUE,KEY=VALUE|@FILE ...] [--json OUT]
 
 Configurations: `engine` (reflections off: the engine's own frame), `default` (the default
-chain, every probe and CMO of the scene), `no_cmos`, `half`, `tiles_off` (reflections.tiles
+chain, every probe and CMO of the scene), `no_cmos`, `half`, `quarter` (reflections.ray_budget), `tiles_off` (reflections.tiles
 off: every per-pixel pass over the whole screen), the presets `low`, `medium`, `high`
 (assets/settings), and any --config. Per view it prints the frame, the module (the sum of the
 reflections.* passes), the module's share of the frame, the probes module's passes (planar
@@ -26,6 +26,7 @@ CONFIGS = {
     "default": [],
     "no_cmos": ["reflections.cmos=false"],
     "half": ["reflections.resolution=half"],
+    "quarter": ["reflections.ray_budget=quarter"],
     "tiles_off": ["reflections.tiles=false"],
     "low": ["@assets/settings/low.json"],
     "medium": ["@assets/settings/medium.json"],

@@ -13,11 +13,15 @@
 //     one (tests/stability/ray_budget_test.py). While the camera moves the history is clipped to
 //     the upsampled neighbourhood, so that a stale value is never further off than upsampling;
 //   - where there is no such history (disocclusion, the first frames), the joint bilateral
-//     upsampling of the half-size image, as reflections.resolution=half gives.
+//     upsampling of the half-size image, as reflections.resolution=half gives (upsample.glsl:
+//     computed here, only for the pixels that use it, so no upsampling pass runs for the
+//     reflection: a still view pays for none of it).
 // No pixel's value is older than three frames: objects moving under a still camera lag that much.
 // Frostbite's stochastic SSR (Stachowiak 2015) and Lumen amortize rays the same way.
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
+#include "reflections/shaders/guide.glsl"
+#include "reflections/shaders/upsample.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -25,7 +29,6 @@ layout(set = 0, binding = 1) uniform sampler2D hiz;            // level 0 .g: de
 layout(set = 0, binding = 2) uniform sampler2D normalTex;      // xyz normal, w roughness
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;    // a: flags | material index
 layout(set = 0, binding = 5) uniform sampler2D motionTex;      // uv - previous uv
-layout(set = 0, binding = 6) uniform sampler2D upsampledTex;   // full: the bilateral upsampling
 layout(set = 0, binding = 7) uniform sampler2D halfTex;        // half: the resolve's reflection
 layout(set = 0, binding = 8) uniform sampler2D guideTex;       // half: guidePixel()
 layout(set = 0, binding = 9) uniform sampler2D distanceTex;    // half: reflected distance (resolve)
@@ -59,10 +62,18 @@ void main() {
     vec3 n = normalize(normalRough.xyz);
     ivec2 halfPixel = min(pixel >> 1, ((size + 1) >> 1) - 1);
     bool fresh = all(equal(guidePixel(halfPixel, texelFetch(guideTex, halfPixel, 0)), pixel));
-    vec4 result = fresh ? texelFetch(halfTex, halfPixel, 0) : texelFetch(upsampledTex, pixel, 0);
-    if (!fresh && rf.refreshValid != 0u) {
+    if (fresh) {
+        imageStore(refreshedOut, pixel, texelFetch(halfTex, halfPixel, 0));
+        imageStore(normalOut, pixel, vec4(n, m.roughness));
+        return;
+    }
+    vec3 p = worldAt(vec2(pixel) + 0.5, depth);
+    ivec2 halfSize = (size + 1) >> 1;
+    float invDist = 1.0 / max(distance(p, rfm.eye), 1e-6);
+    vec4 result = vec4(0.0);
+    bool upsampled = false;
+    if (rf.refreshValid != 0u) {
         vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
-        vec3 p = worldAt(vec2(pixel) + 0.5, depth);
         vec2 prevS = uv - texelFetch(motionTex, pixel, 0).rg;
         vec4 prevClip = rfm.prevViewProj * vec4(p, 1.0);
         float expected = linearDepth(prevClip.z / prevClip.w);
@@ -86,17 +97,27 @@ void main() {
                 if (insideUV(prevV) && sameSurfaceThere(prevVPixel, n, m.roughness, 0.95))
                     h = mix(h, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
             }
-            // Clipped to the upsampled 3x3 neighbourhood, this pixel's upsampled value included.
+            // Clipped to the box of this pixel's upsampled value and the four half-size samples
+            // around it.
+            result = bilateralUpsample(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist);
+            upsampled = true;
             vec3 lo = result.rgb, hi = result.rgb;
-            for (int i = 0; i < 9; ++i) {
-                vec3 c = texelFetch(upsampledTex, clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), size - 1), 0).rgb;
+            ivec2 base = ivec2(floor((vec2(pixel) + 0.5) * 0.5 - 0.5));
+            for (int i = 0; i < 4; ++i) {
+                vec3 c = texelFetch(halfTex, clamp(base + ivec2(i & 1, i >> 1), ivec2(0), halfSize - 1), 0).rgb;
                 lo = min(lo, c);
                 hi = max(hi, c);
             }
             h = clamp(h, lo, hi);
         }
-        if (validS && finite3(h)) result.rgb = max(h, vec3(0.0));
+        if (validS && finite3(h)) {
+            // Alpha (the coverage debug view's) comes with the colour: the history's when still.
+            if (!upsampled) result.a = texelFetch(historyTex, prevSPixel, 0).a;
+            result.rgb = max(h, vec3(0.0));
+            upsampled = true;
+        }
     }
+    if (!upsampled) result = bilateralUpsample(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist);
     imageStore(refreshedOut, pixel, result);
     imageStore(normalOut, pixel, vec4(n, m.roughness));
 }

@@ -19,6 +19,7 @@
 #include "common/camera.glsl"
 #include "reflections/shaders/upsample.h"
 #include "reflections/shaders/guide.glsl"
+#include "reflections/shaders/upsample.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -44,40 +45,5 @@ void main() {
     vec3 n = normalize(normalRough.xyz);
     vec3 p = worldAtPixel(vec2(pixel) + 0.5, depth);
     float invDist = 1.0 / max(distance(p, up.eye.xyz), 1e-6);
-    // The low-resolution grid: sample i sits at full position 2 i + 1 (its 2x2's centre).
-    vec2 lowPos = (vec2(pixel) + 0.5) * 0.5 - 0.5;
-    ivec2 base = ivec2(floor(lowPos));
-    vec2 f = lowPos - vec2(base);
-    ivec2 lowMax = ivec2(up.size.zw) - 1;
-    vec4 sum = vec4(0.0);
-    float total = 0.0;
-    float bestAgree = -1.0;
-    ivec2 bestSample = clamp(base, ivec2(0), lowMax);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 o = ivec2(i & 1, i >> 1);
-        ivec2 s = clamp(base + o, ivec2(0), lowMax);
-        vec4 guide = texelFetch(guideTex, s, 0);
-        GuideSample g = unpackGuide(guide.w);
-        float plane = abs(dot(n, guide.xyz - p)) * invDist;
-        // dot^32 by five squarings, not pow() (a log and an exp per lane on a CPU driver).
-        float c = max(dot(n, g.normal), 0.0);
-        c *= c;
-        c *= c;
-        c *= c;
-        c *= c;
-        c *= c;
-        float others = c * clamp(1.0 - (abs(g.roughness - normalRough.w) - 0.1) * 10.0, 0.0, 1.0) *
-                       (g.reflective ? 1.0 : 0.0);
-        // The fallback's ranking only needs an order that never reaches 0: 1 / (1 + 100 x).
-        float agree = others / (1.0 + plane * 100.0);
-        vec2 b = mix(1.0 - f, f, vec2(o));
-        float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;
-        sum += w * texelFetch(lowTex, s, 0);
-        total += w;
-        if (agree > bestAgree) {
-            bestAgree = agree;
-            bestSample = s;
-        }
-    }
-    imageStore(fullOut, pixel, total > 1e-6 ? sum / total : texelFetch(lowTex, bestSample, 0));
+    imageStore(fullOut, pixel, bilateralUpsample(guideTex, lowTex, ivec2(up.size.zw), pixel, p, n, normalRough.w, invDist));
 }

@@ -1,0 +1,48 @@
+// The joint bilateral upsampling of `lowTex` (lowSize texels, the half-size grid whose guide is
+// `guideTex`) at full pixel `pixel`, a surface point p with normal n and G-buffer roughness
+// `roughness` at 1 / invDist from the eye. Shared by reflections.upsample and reflections.refresh.
+// Needs guide.glsl.
+#ifndef SPECULUM_REFLECTIONS_UPSAMPLE_GLSL
+#define SPECULUM_REFLECTIONS_UPSAMPLE_GLSL
+
+vec4 bilateralUpsample(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec2 pixel, vec3 p, vec3 n,
+                       float roughness, float invDist) {
+    // The low-resolution grid: sample i sits at full position 2 i + 1 (its 2x2's centre).
+    vec2 lowPos = (vec2(pixel) + 0.5) * 0.5 - 0.5;
+    ivec2 base = ivec2(floor(lowPos));
+    vec2 f = lowPos - vec2(base);
+    ivec2 lowMax = lowSize - 1;
+    vec4 sum = vec4(0.0);
+    float total = 0.0;
+    float bestAgree = -1.0;
+    ivec2 bestSample = clamp(base, ivec2(0), lowMax);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 o = ivec2(i & 1, i >> 1);
+        ivec2 s = clamp(base + o, ivec2(0), lowMax);
+        vec4 guide = texelFetch(guideTex, s, 0);
+        GuideSample g = unpackGuide(guide.w);
+        float plane = abs(dot(n, guide.xyz - p)) * invDist;
+        // dot^32 by five squarings, not pow() (a log and an exp per lane on a CPU driver).
+        float c = max(dot(n, g.normal), 0.0);
+        c *= c;
+        c *= c;
+        c *= c;
+        c *= c;
+        c *= c;
+        float others = c * clamp(1.0 - (abs(g.roughness - roughness) - 0.1) * 10.0, 0.0, 1.0) *
+                       (g.reflective ? 1.0 : 0.0);
+        // The fallback's ranking only needs an order that never reaches 0: 1 / (1 + 100 x).
+        float agree = others / (1.0 + plane * 100.0);
+        vec2 b = mix(1.0 - f, f, vec2(o));
+        float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;
+        sum += w * texelFetch(lowTex, s, 0);
+        total += w;
+        if (agree > bestAgree) {
+            bestAgree = agree;
+            bestSample = s;
+        }
+    }
+    return total > 1e-6 ? sum / total : texelFetch(lowTex, bestSample, 0);
+}
+
+#endif
