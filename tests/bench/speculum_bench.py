@@ -364,13 +364,17 @@ KNOWN_COLOURS = {"linear": 1, "hiz": 0, "probes": 2, "hiz+probes": 3}
 
 
 def method_colours(methods, cmap):
-    free = [i for i in range(10) if i not in KNOWN_COLOURS.values()]
+    import matplotlib.pyplot as plt
+    free = [cmap(i) for i in range(10) if i not in KNOWN_COLOURS.values()]
+    # Past the six free tab10 colours, tab20's light shades: two methods never share a colour
+    # (issue 23's presets suite has seven new methods).
+    free += [plt.get_cmap("tab20")(i) for i in range(1, 20, 2)]
     colours, extra = {}, 0
     for m in methods:
         if m in KNOWN_COLOURS:
             colours[m] = cmap(KNOWN_COLOURS[m])
         else:
-            colours[m] = cmap(free[extra % len(free)])
+            colours[m] = free[extra % len(free)]
             extra += 1
     return colours
 
