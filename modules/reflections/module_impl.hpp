@@ -157,7 +157,7 @@ struct Reflections::Impl {
         TextureHandle history;  // the lit image with this frame's own reflection (the next colour pyramid's)
     };
     // `raw`: with temporal accumulation, this frame's reflection (out.reflection is the accumulated one).
-    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out, BufferHandle tiles,
                             DebugView view, TextureHandle raw);
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);

@@ -367,16 +367,18 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
 }
 
 Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                                              const ReflectionOutputs& out, DebugView view,
-                                                              TextureHandle raw) {
+                                                              const ReflectionOutputs& out, BufferHandle tiles,
+                                                              DebugView view, TextureHandle raw) {
     struct Data {
         TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, debug, dst, plain;
+        BufferHandle tiles;
     };
     const bool separate = view != DebugView::None || raw.valid();
     const auto& d = g.addPass<Data>(
         "reflections.composite", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.lit = b.read(in.lit, TextureUsage::Sampled);
+            data.tiles = b.read(tiles, BufferUsage::StorageRead);  // the tiles debug view
             data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -415,7 +417,8 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                 .sampled("debugTex", pc.view(data.debug), nearest)
                 .storage("dst", pc.view(data.dst))
                 .storage("plainOut", pc.view(separate ? data.plain : data.dst))  // unused when not separate
-                .sampled("rawReflectionTex", pc.view(data.raw), nearest);
+                .sampled("rawReflectionTex", pc.view(data.raw), nearest)
+                .buffer("tiles", pc.buffer(data.tiles));
             dispatch(pc, composite(view, temporal), w, pc.extent(data.dst));
         });
     return {d.dst, separate ? d.plain : d.dst};

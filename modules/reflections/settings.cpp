@@ -109,11 +109,12 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
         bind<&R::temporalClip>({"reflections.temporal_clip", T::Float, "sigma", 0.25, 8, 1.25, {},
          "Temporal: the history is clipped to the current 3x3 mean +- this many standard "
          "deviations (lower: less ghosting, more flicker)."}),
-        bind<&R::debugView>({"reflections.debug_view", T::Enum, "", 0, 7, 0,
-         {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection", "cmo"},
+        bind<&R::debugView>({"reflections.debug_view", T::Enum, "", 0, 8, 0,
+         {"none", "iterations", "hit_mask", "coverage", "method", "hiz", "reflection", "cmo", "tiles"},
          "Replace the image with a debug view: iterations heatmap, hit mask, screen-space coverage, "
-         "method weights (CMOs yellow), a Hi-Z level, the reflection alone, or CMO tracing (hue: "
-         "which CMO hit, brightness: iterations; red: unresolved)."}),
+         "method weights (CMOs yellow), a Hi-Z level, the reflection alone, CMO tracing (hue: "
+         "which CMO hit, brightness: iterations; red: unresolved), or the 8x8 tile classes (green "
+         "a screen-space ray, blue a lookup only; yellow and magenta: the same with CMOs)."}),
         bind<&R::debugHizMip>({"reflections.debug_hiz_mip", T::Int, "", 0, 15, 3, {},
          "Hi-Z level shown by debug_view=hiz and the hiz AOV."}),
     });

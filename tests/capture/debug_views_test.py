@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The reflections module's debug views (issue 3: iterations heatmap, hit mask, coverage,
-method, Hi-Z levels, the reflection alone, CMO tracing), reached from the command line with
+method, Hi-Z levels, the reflection alone, CMO tracing, the tile classes), reached from the command line with
 `--set reflections.debug_view=NAME`: each view's image must be what the view promises,
 computed here from the module's raw AOVs of the same frame (hit, method, reflection, hiz).
 
@@ -79,6 +79,29 @@ def expected_hiz(x, y, hiz):
     return tuple(c * checker * span for c in heat(1.0 - closest))
 
 
+# The tiles view (composite.comp): per 8x8 tile one of four colours, a screen-space ray (green;
+# yellow with CMOs) or a lookup only (blue; magenta with CMOs).
+TILE_RAY = ((0.1, 0.8, 0.2), (0.9, 0.8, 0.1))
+TILE_LOOKUP = ((0.15, 0.3, 0.9), (0.8, 0.2, 0.8))
+MAX_SS_ROUGHNESS = 0.6  # reflections.max_roughness's default
+
+
+def expected_tile(x, y, got, lin, exposure, reflective, hit, rough):
+    """What the tiles view must show at (x, y): the colour of the tile's first reflective pixel
+    (one colour per tile), which is a class colour: a ray's whenever a pixel of the tile traced
+    one (the hit AOV's iterations; classify may also list a ray that the camera fade then skips),
+    a lookup's when every reflective pixel is rougher than screen space's limit (0.6)."""
+    tx, ty = x // 8 * 8, y // 8 * 8
+    pixels = [(i, j) for j in range(ty, min(ty + 8, len(lin["R"]))) for i in range(tx, min(tx + 8, len(lin["R"][0])))]
+    first = next((i, j) for i, j in pixels if reflective[j][i])
+    colour = tuple(lin[c][first[1]][first[0]] * exposure for c in "RGB")
+    traced = any(hit["A"][j][i] > 0 for i, j in pixels)
+    lookup = all(rough[j][i] > MAX_SS_ROUGHNESS + 0.002 for i, j in pixels if reflective[j][i])
+    allowed = TILE_RAY if traced else TILE_LOOKUP if lookup else TILE_RAY + TILE_LOOKUP
+    match = next((a for a in allowed if close(colour, a)), None)
+    return match if match is not None and close(got, colour) else (-1.0, -1.0, -1.0)
+
+
 def close(got, want):
     return all(abs(g - v) <= TOLERANCE * max(1.0, abs(v)) for g, v in zip(got, want))
 
@@ -94,14 +117,16 @@ def main():
         def aov(run, name):
             return load(os.path.join(outdir, run, f"{name}.0000.exr"), tmp)[2]
 
-        capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection,cmo")
-        plain, hit, method, reflection, cmo = (aov("none", n) for n in ("linear", "hit", "method", "reflection", "cmo"))
+        capture(exe, scene, os.path.join(outdir, "none"), "none", "linear,hit,method,reflection,cmo,roughness")
+        plain, hit, method, reflection, cmo, rough = (aov("none", n) for n in ("linear", "hit", "method", "reflection",
+                                                                               "cmo", "roughness"))
+        rough = next(iter(rough.values()))
         # The chain's weights (screen space, probes, sky, CMOs) sum to 1 on reflective pixels, 0 elsewhere.
         reflective = [[sum(method[c][y][x] for c in "RGBA") > 0.5 for x in range(w)] for y in range(h)]
         count = sum(map(sum, reflective))
         if count < w * h // 10:
             failures.append(f"only {count} reflective pixels: the scene no longer tests the views")
-        for view in ("iterations", "hit_mask", "coverage", "method", "reflection", "hiz", "cmo"):
+        for view in ("iterations", "hit_mask", "coverage", "method", "reflection", "hiz", "cmo", "tiles"):
             print(f"[debug views] {view}", file=sys.stderr, flush=True)
             capture(exe, scene, os.path.join(outdir, view), view, "linear,hiz" if view == "hiz" else "linear")
             lin = aov(view, "linear")
@@ -115,6 +140,8 @@ def main():
                         want = expected_hiz(x, y, hiz)
                     elif view == "cmo" and reflective[y][x]:
                         want = expected_cmo(x, y, cmo)
+                    elif view == "tiles" and reflective[y][x]:
+                        want = expected_tile(x, y, got, lin, exposure, reflective, hit, rough)
                     elif reflective[y][x] or view == "reflection":
                         want = expected_views(x, y, hit, method, reflection)[view]
                     else:

@@ -30,6 +30,8 @@ layout(set = 0, binding = 13) uniform sampler2D rawReflectionTex;  // temporal: 
 // reflections.debug_view (DebugView): a specialization constant, so that the plain composite
 // carries none of the debug views' fetches (lavapipe runs both sides of a uniform branch).
 layout(constant_id = 0) const uint kDebugView = 0u;
+// The tile lists (reflections.classify): the tiles debug view reads each tile's arrival word.
+#include "reflections/shaders/tiles.glsl"
 // reflections.temporal: reflectionTex is the accumulated reflection, rawReflectionTex this frame's.
 layout(constant_id = 1) const uint kTemporal = 0u;
 
@@ -60,6 +62,18 @@ vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
         if (info.z > 1.5) return vec3(0.9, 0.1, 0.1);
         if (info.z > 0.5) return hues[(int(info.y) - 1) & 3] * bright;
         return vec3(0.05);
+    }
+    if (view == 8u) {
+        // The tile's needs as classify gathered them (tiles.h, kListArrivals: 3 bits per subgroup).
+        ivec2 traceSize = ivec2(ceil(rf.size.xy / rf.traceScale));
+        ivec2 tile = ivec2(vec2(pixel) / rf.traceScale) / int(kTileSize);
+        int tilesX = (traceSize.x + int(kTileSize) - 1) / int(kTileSize);
+        uint word = tiles.entries[uint(tile.y * tilesX + tile.x) * kTileLists + kListArrivals];
+        uint needs = 0u;
+        for (uint k = 0u; k < 8u; ++k) needs |= (word >> (3u * k)) & 7u;
+        bool ray = (needs & 1u) != 0u, cmo = (needs & 2u) != 0u;
+        vec3 c = ray ? (cmo ? vec3(0.9, 0.8, 0.1) : vec3(0.1, 0.8, 0.2)) : (cmo ? vec3(0.8, 0.2, 0.8) : vec3(0.15, 0.3, 0.9));
+        return reflective ? c : dim;
     }
     if (view == 5u) {
         int level = min(int(rf.debugHizMip), int(rf.hizLevels) - 1);

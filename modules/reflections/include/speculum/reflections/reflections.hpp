@@ -37,8 +37,8 @@ enum class RayBudget : uint32_t { Full = 0, Quarter = 1 };
 enum class GlossyMode : uint32_t { Cone = 0, Stochastic = 1 };
 // reflections.cmo_trace: the min/max hierarchy per face, or constant steps (the baseline).
 enum class CmoTraceMode : uint32_t { Hierarchical = 0, Linear = 1 };
-enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection, Cmo };
-inline constexpr size_t kDebugViewCount = 8;
+enum class DebugView : uint32_t { None = 0, Iterations, HitMask, Coverage, Method, HiZ, Reflection, Cmo, Tiles };
+inline constexpr size_t kDebugViewCount = 9;
 
 // The values of settingsTable(), whose rows bind these fields: fromSettings<ReflectionSettings>()
 // fills them, and the defaults are the table's (the constructor writes them), so that no second
