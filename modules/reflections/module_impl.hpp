@@ -142,6 +142,14 @@ struct Reflections::Impl {
                      ReflectionOutputs& out);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                     ReflectionOutputs& out);
+    // What the passes that keep a history (temporal, refresh) read alike: the surface, its motion,
+    // their own history with its normals, and the previous depth (shaders/reprojection.glsl).
+    struct HistoryReads {
+        TextureHandle hiz, normal, emissive, motion, history, historyNormal, historyDepth;
+    };
+    HistoryReads readHistory(PassBuilder& b, const ReflectionInputs& in, TextureHandle hiz, const HistoryHandles& color,
+                             const HistoryHandles& normal) const;
+    gpu::DescriptorWriter historyWriter(PassContext& pc, const HistoryReads& r) const;
     // reflections.refresh (ray_budget=quarter): from the half-size reflection `half`, each pixel's
     // own last traced value where its history holds, else the bilateral upsampling (refresh.comp);
     // returns the full-size refreshed image.

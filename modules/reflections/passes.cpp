@@ -424,40 +424,52 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
     return {d.dst, separate ? d.plain : d.dst};
 }
 
+Reflections::Impl::HistoryReads Reflections::Impl::readHistory(PassBuilder& b, const ReflectionInputs& in,
+                                                               TextureHandle hizPyramid, const HistoryHandles& color,
+                                                               const HistoryHandles& normal) const {
+    HistoryReads r;
+    r.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+    r.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+    r.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+    r.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+    r.history = b.read(color.previous, TextureUsage::Sampled);
+    r.historyNormal = b.read(normal.previous, TextureUsage::Sampled);
+    r.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+    return r;
+}
+
+gpu::DescriptorWriter Reflections::Impl::historyWriter(PassContext& pc, const HistoryReads& r) const {
+    gpu::DescriptorWriter w = surfaceWriter(pc, r.hiz, r.normal, r.emissive);
+    w.sampled("motionTex", pc.view(r.motion), nearest)
+        .sampled("historyTex", pc.view(r.history), nearest)
+        .sampled("historyNormal", pc.view(r.historyNormal), nearest)
+        .sampled("historyDepth", pc.view(r.historyDepth), nearest);
+    return w;
+}
+
 TextureHandle Reflections::Impl::addRefresh(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
                                             const ReflectionOutputs& out, TextureHandle half) {
     struct Data {
-        TextureHandle hiz, normal, emissive, motion, half, guide, distance, history, historyNormal,
-            historyDepth, dst, dstNormal;
+        HistoryReads reads;
+        TextureHandle half, guide, distance, dst, dstNormal;
     };
     historyRefresh = g.importHistory("reflections.history.refresh", history.refresh.history());
     historyRefreshNormal = g.importHistory("reflections.history.refresh_normal", history.refreshNormal.history());
     const auto& d = g.addPass<Data>(
         "reflections.refresh", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
-            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
-            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
-            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+            data.reads = readHistory(b, in, hizPyramid, historyRefresh, historyRefreshNormal);
             data.half = b.read(half, TextureUsage::Sampled);
             data.guide = b.read(out.guide, TextureUsage::Sampled);
             data.distance = b.read(out.distance, TextureUsage::Sampled);
-            data.history = b.read(historyRefresh.previous, TextureUsage::Sampled);
-            data.historyNormal = b.read(historyRefreshNormal.previous, TextureUsage::Sampled);
-            data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
-            TextureHandle dst = historyRefresh.current;
-            data.dst = b.write(dst, TextureUsage::StorageWrite);
+            data.dst = b.write(historyRefresh.current, TextureUsage::StorageWrite);
             data.dstNormal = b.write(historyRefreshNormal.current, TextureUsage::StorageWrite);
         },
         [this](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.sampled("motionTex", pc.view(data.motion), nearest)
-                .sampled("halfTex", pc.view(data.half), nearest)
+            gpu::DescriptorWriter w = historyWriter(pc, data.reads);
+            w.sampled("halfTex", pc.view(data.half), nearest)
                 .sampled("guideTex", pc.view(data.guide), nearest)
                 .sampled("distanceTex", pc.view(data.distance), nearest)
-                .sampled("historyTex", pc.view(data.history), nearest)
-                .sampled("historyNormal", pc.view(data.historyNormal), nearest)
-                .sampled("historyDepth", pc.view(data.historyDepth), nearest)
                 .storage("refreshedOut", pc.view(data.dst))
                 .storage("normalOut", pc.view(data.dstNormal));
             dispatch(pc, refresh, w, pc.extent(data.dst));
@@ -469,34 +481,24 @@ TextureHandle Reflections::Impl::addRefresh(FrameGraph& g, const ReflectionInput
 TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
                                              TextureHandle reflection, TextureHandle distance) {
     struct Data {
-        TextureHandle hiz, normal, emissive, motion, reflection, distance, history, historyNormal, historyDepth, dst,
-            dstNormal;
+        HistoryReads reads;
+        TextureHandle reflection, distance, dst, dstNormal;
     };
     historyReflection = g.importHistory("reflections.history.reflection", history.reflection.history());
     historyNormal = g.importHistory("reflections.history.normal", history.normal.history());
     const auto& d = g.addPass<Data>(
         "reflections.temporal", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
-            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
-            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
-            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
-            data.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
+            data.reads = readHistory(b, in, hizPyramid, historyReflection, historyNormal);
             data.reflection = b.read(reflection, TextureUsage::Sampled);
             data.distance = b.read(distance, TextureUsage::Sampled);
-            data.history = b.read(historyReflection.previous, TextureUsage::Sampled);
-            data.historyNormal = b.read(historyNormal.previous, TextureUsage::Sampled);
-            data.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
             data.dst = b.write(historyReflection.current, TextureUsage::StorageWrite);
             data.dstNormal = b.write(historyNormal.current, TextureUsage::StorageWrite);
         },
         [this](const Data& data, PassContext& pc) {
-            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
-            w.sampled("motionTex", pc.view(data.motion), nearest)
-                .sampled("reflectionTex", pc.view(data.reflection), nearest)
+            gpu::DescriptorWriter w = historyWriter(pc, data.reads);
+            w.sampled("reflectionTex", pc.view(data.reflection), nearest)
                 .sampled("distanceTex", pc.view(data.distance), nearest)
-                .sampled("historyTex", pc.view(data.history), nearest)
-                .sampled("historyNormal", pc.view(data.historyNormal), nearest)
-                .sampled("historyDepth", pc.view(data.historyDepth), nearest)
                 .storage("accumulatedOut", pc.view(data.dst))
                 .storage("normalOut", pc.view(data.dstNormal));
             dispatch(pc, temporal, w, pc.extent(data.dst));

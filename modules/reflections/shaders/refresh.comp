@@ -38,14 +38,7 @@ layout(set = 0, binding = 12) uniform sampler2D historyDepth;  // texelFetch
 layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D refreshedOut;
 layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D normalOut;
 
-bool insideUV(vec2 uv) {
-    return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)));
-}
-
-bool sameSurfaceThere(ivec2 prevPixel, vec3 n, float roughness, float minCos) {
-    vec4 prev = texelFetch(historyNormal, prevPixel, 0);
-    return prev.w >= 0.0 && dot(prev.xyz, n) > minCos && abs(prev.w - roughness) < 0.1;
-}
+#include "reflections/shaders/reprojection.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -74,29 +67,18 @@ void main() {
     bool upsampled = false;
     if (rf.refreshValid != 0u) {
         vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
-        vec2 prevS = uv - texelFetch(motionTex, pixel, 0).rg;
-        vec4 prevClip = rfm.prevViewProj * vec4(p, 1.0);
-        float expected = linearDepth(prevClip.z / prevClip.w);
-        ivec2 prevSPixel = ivec2(floor(prevS * rf.size.xy));
-        bool validS = insideUV(prevS) &&
-                      abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
-                      sameSurfaceThere(prevSPixel, n, m.roughness, 0.9);
+        vec2 prevS;
+        ivec2 prevSPixel;
+        bool validS = surfaceHistory(pixel, p, n, m.roughness, prevS, prevSPixel);
         vec3 h = validS ? texelFetch(historyTex, prevSPixel, 0).rgb : vec3(0.0);
         // Moving: the camera (beyond rounding) or this pixel's surface (its motion vector).
         bool moving = rf.cameraMoved != 0u || any(greaterThan(abs(prevS - uv) * rf.size.xy, vec2(0.01)));
         if (validS && moving) {
             // The reflected point's previous position for sharp surfaces (temporal.comp's rule).
-            float dist = texelFetch(distanceTex, halfPixel, 0).r;
             float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
-            if (dist > 0.0 && sharp > 0.0) {
-                vec3 viewDir = normalize(p - rfm.eye);
-                vec4 virt = dist >= kSkyDistance ? vec4(viewDir, 0.0) : vec4(p + viewDir * dist, 1.0);
-                vec4 clip = rfm.prevViewProj * virt;
-                vec2 prevV = clip.w > 0.0 ? ndcToUV(clip.xy / clip.w) : vec2(-1.0);
-                ivec2 prevVPixel = ivec2(floor(prevV * rf.size.xy));
-                if (insideUV(prevV) && sameSurfaceThere(prevVPixel, n, m.roughness, 0.95))
-                    h = mix(h, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
-            }
+            ivec2 prevVPixel;
+            if (sharp > 0.0 && reflectedHistory(p, texelFetch(distanceTex, halfPixel, 0).r, n, m.roughness, prevVPixel))
+                h = mix(h, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
             // Clipped to the box of this pixel's upsampled value and the four half-size samples
             // around it.
             result = bilateralUpsample(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist);

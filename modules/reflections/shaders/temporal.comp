@@ -33,15 +33,7 @@ layout(set = 0, binding = 11, rgba16f) uniform writeonly image2D accumulatedOut;
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D normalOut;
 
 
-bool insideUV(vec2 uv) {
-    return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)));
-}
-
-// The same surface, orientation and roughness at the previous frame's pixel.
-bool sameMaterialThere(ivec2 prevPixel, vec3 n, float roughness, float minCos) {
-    vec4 prev = texelFetch(historyNormal, prevPixel, 0);
-    return prev.w >= 0.0 && dot(prev.xyz, n) > minCos && abs(prev.w - roughness) < 0.1;
-}
+#include "reflections/shaders/reprojection.glsl"
 
 // Clips h to the box [lo, hi] along the line to the box's centre (Playdead's TAA).
 vec3 clipToBox(vec3 h, vec3 lo, vec3 hi) {
@@ -76,28 +68,15 @@ void main() {
         }
         m1 /= 9.0;
         vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
-        vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
         vec3 p = worldAt(vec2(pixel) + 0.5, depth);
         // The surface's previous position, checked against the previous depth as reproject.comp does.
-        vec2 prevS = uv - texelFetch(motionTex, pixel, 0).rg;
-        vec4 prevClip = rfm.prevViewProj * vec4(p, 1.0);
-        float expected = linearDepth(prevClip.z / prevClip.w);
-        ivec2 prevSPixel = ivec2(floor(prevS * rf.size.xy));
-        bool validS = insideUV(prevS) && abs(linearDepth(texelFetch(historyDepth, prevSPixel, 0).r) - expected) < 0.02 * expected &&
-                      sameMaterialThere(prevSPixel, n, m.roughness, 0.9);
+        vec2 prevS;
+        ivec2 prevSPixel;
+        bool validS = surfaceHistory(pixel, p, n, m.roughness, prevS, prevSPixel);
         // The reflected point's previous position.
         float dist = texelFetch(distanceTex, ivec2(vec2(pixel) / rf.traceScale), 0).r;  // at the trace's size
-        bool validV = false;
-        vec2 prevV = vec2(-1.0);
-        ivec2 prevVPixel = ivec2(0);
-        if (dist > 0.0) {
-            vec3 viewDir = normalize(p - rfm.eye);
-            vec4 virt = dist >= kSkyDistance ? vec4(viewDir, 0.0) : vec4(p + viewDir * dist, 1.0);
-            vec4 clip = rfm.prevViewProj * virt;
-            prevV = clip.w > 0.0 ? ndcToUV(clip.xy / clip.w) : vec2(-1.0);
-            prevVPixel = ivec2(floor(prevV * rf.size.xy));
-            validV = insideUV(prevV) && sameMaterialThere(prevVPixel, n, m.roughness, 0.95);
-        }
+        ivec2 prevVPixel;
+        bool validV = reflectedHistory(p, dist, n, m.roughness, prevVPixel);
         float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
         // A surface the previous frame did not see (disocclusion) has no history at all: the
         // reflected point's may look valid there (the mirror beside it) but belongs to pixels
