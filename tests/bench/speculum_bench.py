@@ -98,8 +98,10 @@ def render_reference(tools, view, size, settings, cache):
     bench stops with the command that regenerates it; with a "fallback" (fixed-rate settings)
     a view the store lacks is rendered with those instead and its rows say so."""
     if settings.get("converged"):
-        folder, why = (store.lookup(view["scene"], view["camera"], size, settings["bounces"])
-                       if "camera" in view else (None, "camera paths have no converged reference"))
+        # The store's entry at this size or at a whole fraction of it (960x540 is scored at the
+        # 320x180 entry's pixel centres; camera paths have 160x90 entries for 480x270 runs).
+        folder, _, why = store.lookup_scaled(view["scene"], view.get("camera"), size, settings["bounces"],
+                                             path=view.get("path"))
         if folder is not None:
             return folder, True
         if settings.get("render_missing") and "camera" in view:
@@ -178,12 +180,20 @@ def capture(tools, view, size, method_sets, aov, suite, out):
     return last_frame(out, aov), reflection_ms, timings["frame"]["median_ms"], timings.get("device", "")
 
 
-def score(tools, test, ref_dir, aov, exposure, heatmap):
+def reference_factor(ref_dir, size):
+    """k when the reference is 1/k of the run's size on both axes (1: the same size)."""
+    return int(size.lower().split("x")[0]) // json.loads((ref_dir / "reference.json").read_text())["width"]
+
+
+def score(tools, test, ref_dir, aov, exposure, heatmap, size):
     """PSNR, MAE and gross share on the reflective pixels; against a converged reference also per
     band (mirror_psnr_db, rough_psnr_db), without the pixels it left unconverged, and with the
-    reference's own seed agreement beside (reference_agreement_db: mirror band)."""
+    reference's own seed agreement beside (reference_agreement_db: mirror band). A reference
+    smaller than the run by a whole k is scored at its own pixel centres."""
     cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / f"{aov}.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--scale", str(exposure), "--heatmap", str(heatmap)]
+    if reference_factor(ref_dir, size) > 1:
+        cmd += ["--at-reference-pixels"]
     if aov == "reflection":
         cmd += ["--test-mask", str(test)]
     converged = (ref_dir / "stderror.0000.exr").is_file()
@@ -205,15 +215,21 @@ def score(tools, test, ref_dir, aov, exposure, heatmap):
     return scores
 
 
-def flicker(tools, run_dir, ref_dir, aov, frames, exposure):
+def flicker(tools, run_dir, ref_dir, aov, frames, exposure, size):
+    """Excess flicker along the path; against a converged reference path also the floor its own
+    noise puts under the score (reference_floor) and the pixel-frames it left out."""
     cmd = [tools.metrics, "flicker", "--test", str(run_dir), "--ref", str(ref_dir), "--aov", aov,
            "--frames", str(frames), "--ref-mask-aov", "reflective", "--scale", str(exposure)]
     if aov == "reflection":
         cmd += ["--test-mask-aov", "reflection"]
+    if (ref_dir / "stderror.0000.exr").is_file():
+        cmd += ["--ref-error-aov", "stderror"]
+    if reference_factor(ref_dir, size) > 1:
+        cmd += ["--at-reference-pixels"]
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
         fail(f"speculum-metrics flicker failed: {result.stderr.strip()}", 1)
-    return json.loads(result.stdout)["excess_flicker"]
+    return json.loads(result.stdout)
 
 
 def stability(tools, suite, methods, aov, out, cache, progress_step):
@@ -228,11 +244,21 @@ def stability(tools, suite, methods, aov, out, cache, progress_step):
                 tools, view, size, suite, cache, methods, progress_step, f"{view_name(view)} {size}",
                 out / "runs" / f"{view_name(view)}.{size}"):
             _, refl_ms, frame_ms, _ = capture(tools, view, size, sets, aov, suite, run_dir)
+            f = flicker(tools, run_dir, ref_dir, aov, len(info["frames"]), info["exposure"], size)
             rows.append({"scene": view["scene"], "path": view["path"], "size": size, "method": method,
                          "frames": len(info["frames"]), "reflection_ms": refl_ms,
-                         "excess_flicker": flicker(tools, run_dir, ref_dir, aov, len(info["frames"]),
-                                                   info["exposure"])})
+                         "excess_flicker": f["excess_flicker"], "reference_floor": f.get("reference_floor"),
+                         "unconverged_pixel_frames": f.get("unconverged_pixel_frames"),
+                         "reference": reference_label(ref_dir, info, size)})
     return rows
+
+
+def reference_label(ref_dir, info, size):
+    """What a row was scored against: 'converged' (at WxH when smaller than the run) or the fixed rate."""
+    if not (ref_dir / "stderror.0000.exr").is_file():
+        return f"{info['spp']} spp"
+    k = reference_factor(ref_dir, size)
+    return "converged" if k == 1 else f"converged at {info['width']}x{info['height']}"
 
 
 def each_method(tools, view, size, suite, cache, methods, progress_step, label, runs):
@@ -304,12 +330,12 @@ def bench(args, tools):
         for ref_dir, cached, ref_info, method, sets, run_dir in each_method(
                 tools, view, size, suite, cache, methods, progress_step, name, out / "runs" / name):
             image, refl_ms, frame_ms, device = capture(tools, view, size, sets, aov, suite, run_dir)
-            m = score(tools, image, ref_dir, aov, ref_info["exposure"], out / "heatmaps" / f"{name}.{method}.png")
+            m = score(tools, image, ref_dir, aov, ref_info["exposure"], out / "heatmaps" / f"{name}.{method}.png", size)
             rows.append({"scene": view["scene"], "camera": view["camera"], "size": size, "method": method,
                          "aov": aov, "reflection_ms": refl_ms, "frame_ms": frame_ms, "psnr_db": m["psnr_db"],
                          "mae": m["mae"], "gross_share": m["gross_share"], "pixels": m["pixels"],
                          "mirror_psnr_db": m.get("mirror_psnr_db"), "rough_psnr_db": m.get("rough_psnr_db"),
-                         "reference": "converged" if m["converged_reference"] else f"{ref_info['spp']} spp",
+                         "reference": reference_label(ref_dir, ref_info, size),
                          "reference_agreement_db": m.get("reference_agreement_db"),
                          "reference_seconds": ref_info["frames"][0]["seconds"], "reference_cached": cached,
                          "device": device})
@@ -327,21 +353,37 @@ def configurations(rows):
         scored = [r["psnr_db"] for r in rs if r["psnr_db"] is not None]
         # Only rows scored against a converged reference have bands (older results.json: none).
         mirror = [r["mirror_psnr_db"] for r in rs if r.get("mirror_psnr_db") is not None]
+        rough = [r["rough_psnr_db"] for r in rs if r.get("rough_psnr_db") is not None]
         configs.append({"method": method, "size": size, "views": len(rs),
-                        "mirror_psnr_db": sum(mirror) / len(mirror) if mirror else None,
+                        "mirror_psnr_db": sum(mirror) / len(mirror) if len(mirror) == len(rs) else None,
+                        "rough_psnr_db": sum(rough) / len(rough) if len(rough) == len(rs) else None,
                         "reflection_ms": sum(r["reflection_ms"] for r in rs) / len(rs),
                         "frame_ms": sum(r["frame_ms"] for r in rs) / len(rs),
                         "psnr_db": sum(scored) / len(scored) if scored else None,
                         "mae": sum(r["mae"] for r in rs) / len(rs),
                         "gross_share": sum(r["gross_share"] for r in rs) / len(rs)})
+    key = accuracy_key(configs)
     for c in configs:
         # On the front when no other configuration is at least as fast and as accurate, and
         # strictly better in one of the two.
-        c["pareto"] = c["psnr_db"] is not None and not any(
-            o is not c and o["psnr_db"] is not None and o["reflection_ms"] <= c["reflection_ms"]
-            and o["psnr_db"] >= c["psnr_db"]
-            and (o["reflection_ms"] < c["reflection_ms"] or o["psnr_db"] > c["psnr_db"]) for o in configs)
+        c["pareto"] = c[key] is not None and not any(
+            o is not c and o[key] is not None and o["reflection_ms"] <= c["reflection_ms"]
+            and o[key] >= c[key]
+            and (o["reflection_ms"] < c["reflection_ms"] or o[key] > c[key]) for o in configs)
     return sorted(configs, key=lambda c: (c["size"], c["method"]))
+
+
+def accuracy_key(configs):
+    """What the chart and the Pareto front rank by: the mirror band when every configuration was
+    scored against converged references (issue 24: rough walls no longer drown the mirrors, and
+    the reference's noise is far below the error), else the PSNR on all reflective pixels."""
+    if configs and all(c.get("mirror_psnr_db") is not None for c in configs):
+        return "mirror_psnr_db"
+    return "psnr_db"
+
+
+AXIS_LABELS = {"mirror_psnr_db": "mirror band PSNR (dB, roughness < 0.3, against converged references)",
+               "psnr_db": "PSNR on reflective pixels (dB, clamped linear)"}
 
 
 def write_results(out, suite, rows, paths, seconds):
@@ -386,24 +428,25 @@ def chart(out, rows, configs):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     colours = method_colours(sorted({r["method"] for r in rows}), plt.get_cmap("tab10"))
     markers = {s: "osD^v<>"[i % 7] for i, s in enumerate(sorted({r["size"] for r in rows}))}
+    key = accuracy_key(configs)
     for r in rows:
-        if r["psnr_db"] is not None:
-            ax.scatter(r["reflection_ms"], r["psnr_db"], color=colours[r["method"]], marker=markers[r["size"]],
+        if r.get(key) is not None:
+            ax.scatter(r["reflection_ms"], r[key], color=colours[r["method"]], marker=markers[r["size"]],
                        alpha=0.25, s=18)
     for c in configs:
-        if c["psnr_db"] is None:
+        if c[key] is None:
             continue
-        ax.scatter(c["reflection_ms"], c["psnr_db"], color=colours[c["method"]], marker=markers[c["size"]], s=90,
+        ax.scatter(c["reflection_ms"], c[key], color=colours[c["method"]], marker=markers[c["size"]], s=90,
                    edgecolors="black", label=f"{c['method']} {c['size']}")
-        ax.annotate(c["size"], (c["reflection_ms"], c["psnr_db"]), textcoords="offset points", xytext=(6, 4),
+        ax.annotate(c["size"], (c["reflection_ms"], c[key]), textcoords="offset points", xytext=(6, 4),
                     fontsize=8)
     front = sorted((c for c in configs if c["pareto"]), key=lambda c: c["reflection_ms"])
     if front:
-        ax.step([c["reflection_ms"] for c in front], [c["psnr_db"] for c in front], where="post", color="black",
+        ax.step([c["reflection_ms"] for c in front], [c[key] for c in front], where="post", color="black",
                 linestyle="--", linewidth=1, marker="o", markersize=14, markerfacecolor="none",
                 label="Pareto front")  # rings: a one-point front has no line to draw
     ax.set_xlabel("reflection ms (GPU timestamp medians of the reflections.* passes)")
-    ax.set_ylabel("PSNR on reflective pixels (dB, clamped linear)")
+    ax.set_ylabel(AXIS_LABELS[key])
     ax.set_title("Speed against accuracy (large markers: mean over views; small: one view)")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="best")
@@ -424,12 +467,14 @@ def summary(out, rows, configs, paths, seconds):
              f"heatmaps in `heatmaps/`. Accuracy is on reflective pixels, clamped linear after the scene's "
              f"exposure (tests/reference/README.md).", "",
              "## Configurations (mean over views)", "",
-             "| method | size | reflection ms | frame ms | PSNR dB | mirror band dB (converged) | MAE | gross share | Pareto |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             f"Pareto front and chart by {AXIS_LABELS[accuracy_key(configs)]}. Bands: mirror (roughness < 0.3) and "
+             f"rough, each only where every view of the row was scored against a converged reference.", "",
+             "| method | size | reflection ms | frame ms | PSNR dB | mirror band dB | rough band dB | MAE | gross share | Pareto |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for c in configs:
         lines.append(f"| {c['method']} | {c['size']} | {fmt(c['reflection_ms'])} | {fmt(c['frame_ms'])} | "
-                     f"{fmt(c['psnr_db'])} | {fmt(c.get('mirror_psnr_db'))} | {fmt(c['mae'], 4)} | "
-                     f"{fmt(c['gross_share'], 4)} | {'yes' if c['pareto'] else ''} |")
+                     f"{fmt(c['psnr_db'])} | {fmt(c.get('mirror_psnr_db'))} | {fmt(c.get('rough_psnr_db'))} | "
+                     f"{fmt(c['mae'], 4)} | {fmt(c['gross_share'], 4)} | {'yes' if c['pareto'] else ''} |")
     pairs = [(m, m + "+probes") for m in sorted({c["method"] for c in configs})
              if any(c["method"] == m + "+probes" for c in configs)]
     if pairs:
@@ -450,17 +495,24 @@ def summary(out, rows, configs, paths, seconds):
     for method in sorted({c["method"] for c in configs}):
         mine = [c for c in configs if c["method"] == method]
         on_front = [c["size"] for c in mine if c["pareto"]]
-        best = max((c for c in mine if c["psnr_db"] is not None), key=lambda c: c["psnr_db"], default=None)
+        key = accuracy_key(configs)
+        best = max((c for c in mine if c[key] is not None), key=lambda c: c[key], default=None)
         lines.append(f"- **{method}**: on the Pareto front at {', '.join(on_front) if on_front else 'no size'}; "
-                     f"best PSNR {fmt(best['psnr_db'] if best else None)} dB at {best['size'] if best else 'n/a'} "
+                     f"best {'mirror band' if key == 'mirror_psnr_db' else 'PSNR'} {fmt(best[key] if best else None)} dB "
+                     f"at {best['size'] if best else 'n/a'} "
                      f"for {fmt(best['reflection_ms'] if best else None)} ms of reflections.")
     if paths:
         lines += ["", "## Stability along camera paths", "",
-                  "Excess flicker: mean over frames of |(R_t - R_t-1) - (Ref_t - Ref_t-1)| on reflective pixels.", "",
-                  "| scene | path | size | method | frames | excess flicker | reflection ms |", "|---|---|---|---|---|---|---|"]
+                  "Excess flicker: mean over frames of |(R_t - R_t-1) - (Ref_t - Ref_t-1)| on reflective pixels. "
+                  "Against a converged reference path, on its converged pixels only, with the floor its own noise "
+                  "puts under every score beside (reference floor; issue 24).", "",
+                  "| scene | path | size | method | frames | excess flicker | reference floor | reference | "
+                  "pixel-frames left out | reflection ms |", "|---|---|---|---|---|---|---|---|---|---|"]
         for p in paths:
             lines.append(f"| {p['scene']} | {p['path']} | {p['size']} | {p['method']} | {p['frames']} | "
-                         f"{p['excess_flicker']:.5f} | {fmt(p['reflection_ms'])} |")
+                         f"{p['excess_flicker']:.5f} | {fmt(p.get('reference_floor'), 5)} | {p.get('reference', '')} | "
+                         f"{p.get('unconverged_pixel_frames') if p.get('unconverged_pixel_frames') is not None else 'n/a'} | "
+                         f"{fmt(p['reflection_ms'])} |")
     lines += ["", "## Every run", "",
               "Mirror band: reflection roughness below 0.3; rough band: above. reference: `converged` (assets/references; "
               "its two seeds' agreement in the mirror band beside) or the fixed rate it was rendered at.", "",

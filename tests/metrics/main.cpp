@@ -3,9 +3,9 @@
 //   speculum-metrics compare --test T.exr --ref R.exr [--ref-mask REFLECTIVE.exr]
 //                            [--test-mask REFLECTION.exr] [--scale S] [--heatmap OUT.png]
 //                            [--band-image ROUGHNESS.exr --bands 0,0.1,0.3,1.01]
-//                            [--ref-error STDERROR.exr]... [--max-ref-error E]
+//                            [--ref-error STDERROR.exr]... [--max-ref-error E] [--at-reference-pixels]
 //   speculum-metrics flicker --test DIR --ref DIR --aov NAME --frames N [--ref-mask-aov NAME]
-//                            [--test-mask-aov NAME] [--scale S]
+//                            [--test-mask-aov NAME] [--scale S] [--ref-error-aov NAME] [--at-reference-pixels]
 // Exit 0 done, 2 bad arguments, 3 an image cannot be read or sizes differ.
 #include "metrics.hpp"
 
@@ -26,17 +26,26 @@ using namespace speculum;
 namespace {
 
 struct Options {
-    std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov, bandImage;
+    std::string test, ref, refMask, testMask, heatmap, aov, refMaskAov, testMaskAov, bandImage, refErrorAov;
     std::vector<float> bands;
     std::vector<std::string> refErrors;
     float scale = 1.0f, maxRefError = metrics::kMaxReferenceError;
     int frames = 0;
+    bool atReferencePixels = false;
 };
 
-std::vector<uint8_t> maskFor(const metrics::Image& size, const std::string& refMask, const std::string& testMask) {
+// A test-side image (the engine's frame or its mask) at the reference's size: read whole, or with
+// --at-reference-pixels sampled at the reference's pixel centres (metrics::atReferencePixels).
+metrics::Image loadTest(const Options& o, const std::string& file, const metrics::Image& ref) {
+    metrics::Image img = metrics::load(file);
+    return o.atReferencePixels ? metrics::atReferencePixels(img, ref.width, ref.height) : img;
+}
+
+std::vector<uint8_t> maskFor(const Options& o, const metrics::Image& size, const std::string& refMask,
+                             const std::string& testMask) {
     std::optional<metrics::Image> r, t;
     if (!refMask.empty()) r = metrics::load(refMask);
-    if (!testMask.empty()) t = metrics::load(testMask);
+    if (!testMask.empty()) t = loadTest(o, testMask, size);
     return metrics::reflectiveMask(size.width, size.height, r ? &*r : nullptr, t ? &*t : nullptr);
 }
 
@@ -48,8 +57,8 @@ nlohmann::json toJson(const metrics::Scores& s) {
 }
 
 int compare(const Options& o) {
-    metrics::Image test = metrics::load(o.test), ref = metrics::load(o.ref);
-    std::vector<uint8_t> mask = maskFor(ref, o.refMask, o.testMask);
+    metrics::Image ref = metrics::load(o.ref), test = loadTest(o, o.test, ref);
+    std::vector<uint8_t> mask = maskFor(o, ref, o.refMask, o.testMask);
     // Pixels where a reference is not converged are not scored, and counted (converged references).
     size_t unconverged = 0;
     for (const std::string& e : o.refErrors) mask = metrics::convergedMask(mask, metrics::load(e), o.maxRefError, unconverged);
@@ -57,6 +66,7 @@ int compare(const Options& o) {
     if (!o.heatmap.empty())
         metrics::writePng(o.heatmap, ref.width, ref.height, metrics::heatmap(test, ref, mask, o.scale));
     nlohmann::json j = toJson(s);
+    if (o.atReferencePixels) j["at_reference_pixels"] = true;
     if (!o.refErrors.empty()) j["unconverged_pixels"] = unconverged;
     if (!o.bandImage.empty()) {
         // Per band [edge i, edge i+1) of the band image (the roughness AOV): which method is the
@@ -88,13 +98,22 @@ int flicker(const Options& o) {
     std::vector<metrics::Image> test, ref;
     std::vector<std::vector<uint8_t>> masks;
     for (int f = 0; f < o.frames; ++f) {
-        test.push_back(metrics::load(frameFile(o.test, o.aov, f)));
         ref.push_back(metrics::load(frameFile(o.ref, o.aov, f)));
-        masks.push_back(maskFor(ref.back(), o.refMaskAov.empty() ? "" : frameFile(o.ref, o.refMaskAov, f),
+        test.push_back(loadTest(o, frameFile(o.test, o.aov, f), ref.back()));
+        masks.push_back(maskFor(o, ref.back(), o.refMaskAov.empty() ? "" : frameFile(o.ref, o.refMaskAov, f),
                                 o.testMaskAov.empty() ? "" : frameFile(o.test, o.testMaskAov, f)));
     }
-    double e = metrics::excessFlicker(test, ref, masks, o.scale);
-    std::cout << nlohmann::json{{"frames", o.frames}, {"excess_flicker", e}}.dump() << "\n";
+    std::vector<metrics::Image> errors;
+    for (int f = 0; f < o.frames && !o.refErrorAov.empty(); ++f)
+        errors.push_back(metrics::load(frameFile(o.ref, o.refErrorAov, f)));
+    metrics::Flicker e = metrics::excessFlicker(test, ref, masks, errors, o.maxRefError, o.scale);
+    nlohmann::json j{{"frames", o.frames}, {"excess_flicker", e.excess}};
+    if (!errors.empty()) {
+        j["reference_floor"] = e.referenceFloor;
+        j["unconverged_pixel_frames"] = e.unconverged;
+    }
+    if (o.atReferencePixels) j["at_reference_pixels"] = true;
+    std::cout << j.dump() << "\n";
     return 0;
 }
 
@@ -115,6 +134,8 @@ int main(int argc, char** argv) {
     cmp->add_option("--bands", o.bands, "band edges, increasing: [edge i, edge i+1)")->delimiter(',');
     cmp->add_option("--ref-error", o.refErrors,
                     "reference 'stderror' AOV (repeatable): pixels above --max-ref-error are not scored");
+    const char* atHelp = "the test is k times the reference's size (k whole): score it at the reference's pixel centres";
+    cmp->add_flag("--at-reference-pixels", o.atReferencePixels, atHelp);
     cmp->add_option("--max-ref-error", o.maxRefError, "standard error in display units above which a pixel is left out (default 0.01)");
     CLI::App* fl = cli.add_subcommand("flicker", "excess flicker of a frame sequence against its reference");
     fl->add_option("--test", o.test, "engine output folder")->required();
@@ -124,6 +145,10 @@ int main(int argc, char** argv) {
     fl->add_option("--ref-mask-aov", o.refMaskAov, "reference mask AOV (e.g. reflective)");
     fl->add_option("--test-mask-aov", o.testMaskAov, "engine mask AOV (e.g. reflection)");
     fl->add_option("--scale", o.scale, "multiplier before clamping to [0, 1] (the scene's exposure)");
+    fl->add_flag("--at-reference-pixels", o.atReferencePixels, atHelp);
+    fl->add_option("--ref-error-aov", o.refErrorAov,
+                   "reference 'stderror' AOV (converged path): unconverged pixels left out, the reference's floor reported");
+    fl->add_option("--max-ref-error", o.maxRefError, "standard error in display units above which a pixel is left out (default 0.01)");
     return app::toolMain("speculum-metrics", cli, argc, argv, [&] {
         if (!(o.scale > 0.0f)) throw argumentError("--scale must be positive");
         return cmp->parsed() ? compare(o) : flicker(o);

@@ -82,6 +82,25 @@ std::vector<uint8_t> convergedMask(const std::vector<uint8_t>& mask, const Image
     return out;
 }
 
+Image atReferencePixels(const Image& test, uint32_t refWidth, uint32_t refHeight) {
+    uint32_t k = refWidth ? test.width / refWidth : 0;
+    if (k == 0 || refHeight == 0 || test.width != k * refWidth || test.height != k * refHeight)
+        throw Error(ExitCode::BadInput, "at reference pixels: the test image (" + std::to_string(test.width) + "x" +
+                                            std::to_string(test.height) + ") is not a whole multiple of the reference (" +
+                                            std::to_string(refWidth) + "x" + std::to_string(refHeight) + ")");
+    if (k == 1) return test;
+    Image out{refWidth, refHeight, std::vector<glm::vec3>(size_t(refWidth) * refHeight)};
+    auto at = [&](uint32_t x, uint32_t y) { return test.pixels[size_t(y) * test.width + x]; };
+    for (uint32_t y = 0; y < refHeight; ++y)
+        for (uint32_t x = 0; x < refWidth; ++x) {
+            // The reference pixel's centre is at test pixel coordinates k x + k / 2.
+            uint32_t cx = x * k + k / 2, cy = y * k + k / 2;
+            out.pixels[size_t(y) * refWidth + x] =
+                k % 2 ? at(cx, cy) : 0.25f * (at(cx - 1, cy - 1) + at(cx, cy - 1) + at(cx - 1, cy) + at(cx, cy));
+        }
+    return out;
+}
+
 Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale) {
     checkSizes(test, reference, "compare");
     if (mask.size() != test.pixels.size()) throw Error(ExitCode::BadInput, "compare: mask size differs from the images");
@@ -106,18 +125,37 @@ Scores compare(const Image& test, const Image& reference, const std::vector<uint
 
 double excessFlicker(const std::vector<Image>& test, const std::vector<Image>& reference,
                      const std::vector<std::vector<uint8_t>>& masks, float scale) {
-    if (test.size() != reference.size() || masks.size() != test.size())
+    return excessFlicker(test, reference, masks, {}, 0.0f, scale).excess;
+}
+
+Flicker excessFlicker(const std::vector<Image>& test, const std::vector<Image>& reference,
+                      const std::vector<std::vector<uint8_t>>& masks, const std::vector<Image>& stderror,
+                      float maxError, float scale) {
+    if (test.size() != reference.size() || masks.size() != test.size() ||
+        (!stderror.empty() && stderror.size() != test.size()))
         throw Error(ExitCode::BadInput, "flicker: the sequences have different frame counts");
-    double sum = 0.0;
+    const double kMeanAbsOfUnitNormal = std::sqrt(2.0 / 3.14159265358979323846);
+    Flicker f;
+    double sum = 0.0, floorSum = 0.0;
     size_t frames = 0;
     for (size_t t = 1; t < test.size(); ++t) {
         checkSizes(test[t], reference[t], "flicker");
         checkSizes(test[t - 1], test[t], "flicker");
         checkSizes(reference[t - 1], reference[t], "flicker");
-        double frameSum = 0.0;
+        if (!stderror.empty()) checkSizes(stderror[t], reference[t], "flicker (reference error)");
+        double frameSum = 0.0, frameFloor = 0.0;
         size_t pixels = 0;
         for (size_t i = 0; i < masks[t].size(); ++i) {
             if (!masks[t][i]) continue;
+            if (!stderror.empty()) {
+                // -1: one batch, unknown; counted as converged with no noise, as compare() keeps it.
+                float a = std::max(stderror[t].pixels[i].x, 0.0f), b = std::max(stderror[t - 1].pixels[i].x, 0.0f);
+                if (a > maxError || b > maxError) {
+                    ++f.unconverged;
+                    continue;
+                }
+                frameFloor += kMeanAbsOfUnitNormal * std::sqrt(double(a) * a + double(b) * b);
+            }
             glm::vec3 dt = clamped(test[t].pixels[i], scale) - clamped(test[t - 1].pixels[i], scale);
             glm::vec3 dr = clamped(reference[t].pixels[i], scale) - clamped(reference[t - 1].pixels[i], scale);
             glm::vec3 e = glm::abs(dt - dr);
@@ -127,9 +165,14 @@ double excessFlicker(const std::vector<Image>& test, const std::vector<Image>& r
         // A frame without reflective pixels has nothing to flicker.
         if (pixels == 0) continue;
         sum += frameSum / double(pixels * 3);
+        floorSum += frameFloor / double(pixels);
         ++frames;
     }
-    return frames ? sum / double(frames) : 0.0;
+    if (frames) {
+        f.excess = sum / double(frames);
+        f.referenceFloor = floorSum / double(frames);
+    }
+    return f;
 }
 
 std::vector<uint8_t> heatmap(const Image& test, const Image& reference, const std::vector<uint8_t>& mask,

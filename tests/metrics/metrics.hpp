@@ -52,6 +52,15 @@ std::vector<uint8_t> bandMask(const std::vector<uint8_t>& mask, const Image& ban
 std::vector<uint8_t> convergedMask(const std::vector<uint8_t>& mask, const Image& stderror, float maxError,
                                    size_t& removed);
 
+// A test image k times the reference's size on both axes (k a whole number), sampled where the
+// reference's pixels are: both renderers shoot one ray through each pixel's centre, so for odd k
+// the centre pixel of each k x k block sits exactly on the reference's sample (960x540 against
+// 320x180: k = 3), and for even k the mean of the four pixels around it is the bilinear value
+// there (640x360: k = 2; an edge through the block is blurred by half a test pixel). A bench at
+// 960x540 is then scored against the converged 320x180 reference, never a noisier one (issue 24).
+// k = 1 returns the image. Throws Error(ExitCode::BadInput) naming both sizes otherwise.
+Image atReferencePixels(const Image& test, uint32_t refWidth, uint32_t refHeight);
+
 // Throws Error(ExitCode::BadInput) when the sizes differ.
 Scores compare(const Image& test, const Image& reference, const std::vector<uint8_t>& mask, float scale);
 
@@ -60,6 +69,20 @@ Scores compare(const Image& test, const Image& reference, const std::vector<uint
 // follow the reference's scores 0 whatever its constant error.
 double excessFlicker(const std::vector<Image>& test, const std::vector<Image>& reference,
                      const std::vector<std::vector<uint8_t>>& masks, float scale);
+
+// The same against a converged reference path whose `stderror` AOV is given per frame (issue 24):
+// a pixel counts at frame t only where the reference is converged (stderror at most maxError) at
+// t and t - 1. `referenceFloor` is what the reference's own noise adds to the score on those
+// pixels: the mean of E|n_t - n_t-1| = sqrt(2 / pi) sqrt(s_t^2 + s_t-1^2) for independent
+// normal errors of standard error s (the largest channel's: an upper bound), so a score far
+// above it measures the engine, not the reference. `unconverged` counts the pixel-frames left out.
+struct Flicker {
+    double excess = 0.0, referenceFloor = 0.0;
+    size_t unconverged = 0;
+};
+Flicker excessFlicker(const std::vector<Image>& test, const std::vector<Image>& reference,
+                      const std::vector<std::vector<uint8_t>>& masks, const std::vector<Image>& stderror,
+                      float maxError, float scale);
 
 // Error heatmap, 8-bit RGB: the largest channel error on mask pixels from black through blue
 // and magenta to yellow at kGross and above; other pixels show the reference in dim grey.

@@ -105,3 +105,43 @@ TEST(Metrics, UnconvergedReferencePixelsAreLeftOut) {
     EXPECT_EQ(removed, 1u);
     EXPECT_THROW(metrics::convergedMask({1, 1}, error, 0.01f, removed), Error);
 }
+
+// A 3x test image scored at the reference's pixels takes each 3x3 block's centre pixel (the same
+// ray as the reference's); a 2x image the mean of the four pixels around the centre; other sizes
+// are an error naming both.
+TEST(Metrics, TestImagesAreSampledAtTheReferencesPixelCentres) {
+    Image three{6, 3, {}};
+    for (uint32_t i = 0; i < 18; ++i) three.pixels.push_back(glm::vec3(float(i)));
+    Image a = metrics::atReferencePixels(three, 2, 1);
+    ASSERT_EQ(a.pixels.size(), 2u);
+    EXPECT_EQ(a.pixels[0].x, 7.0f);   // row 1, column 1
+    EXPECT_EQ(a.pixels[1].x, 10.0f);  // row 1, column 4
+    Image two{4, 2, {}};
+    for (uint32_t i = 0; i < 8; ++i) two.pixels.push_back(glm::vec3(float(i)));
+    Image b = metrics::atReferencePixels(two, 2, 1);
+    EXPECT_FLOAT_EQ(b.pixels[0].x, (0 + 1 + 4 + 5) / 4.0f);
+    EXPECT_FLOAT_EQ(b.pixels[1].x, (2 + 3 + 6 + 7) / 4.0f);
+    EXPECT_EQ(metrics::atReferencePixels(two, 4, 2).pixels, two.pixels);
+    EXPECT_THROW(metrics::atReferencePixels(two, 3, 1), Error);   // 4 is not a multiple of 3
+    EXPECT_THROW(metrics::atReferencePixels(three, 2, 2), Error);  // 3x on x, 1.5x on y
+}
+
+// Against a converged path: a pixel unconverged at t or t - 1 leaves the score and is counted, and
+// the reference's own floor is sqrt(2 / pi) sqrt(s_t^2 + s_t-1^2) averaged over what is scored.
+TEST(Metrics, FlickerAgainstAConvergedPathLeavesUnconvergedPixelsOutAndReportsTheFloor) {
+    std::vector<Image> ref, test, err;
+    for (int t = 0; t < 3; ++t) {
+        ref.push_back(flat(2, 1, glm::vec3(0.0f)));
+        test.push_back(flat(2, 1, glm::vec3(t % 2 ? 0.1f : 0.0f)));
+        err.push_back(flat(2, 1, glm::vec3(0.003f)));
+    }
+    test[1].pixels[1] = glm::vec3(0.9f);  // the unconverged pixel's flicker must not count
+    err[1].pixels[1] = glm::vec3(0.05f);
+    std::vector<std::vector<uint8_t>> masks(3, std::vector<uint8_t>(2, 1));
+    metrics::Flicker f = metrics::excessFlicker(test, ref, masks, err, metrics::kMaxReferenceError, 1.0f);
+    EXPECT_NEAR(f.excess, 0.1, 1e-6);
+    EXPECT_EQ(f.unconverged, 2u);  // pixel 1 at t = 1 and t = 2 (its t - 1)
+    EXPECT_NEAR(f.referenceFloor, std::sqrt(2.0 / 3.14159265) * std::sqrt(2.0) * 0.003, 1e-6);
+    // Without the errors the same sequences score the outlier too.
+    EXPECT_GT(metrics::excessFlicker(test, ref, masks, 1.0f), 0.3);
+}

@@ -75,7 +75,19 @@ def manifest():
 
 
 def entry_name(e):
-    return f"{e['scene']}.{e['camera']}.{e['size']}.b{e['bounces']}"
+    return f"{e['scene']}.{view_label(e)}.{e['size']}.b{e['bounces']}"
+
+
+def view_label(e):
+    """A named camera, or a camera path (assets/paths/NAME.json: NAME_path), as the bench names views."""
+    return e["camera"] if "camera" in e else Path(e["path"]).stem + "_path"
+
+
+def settings_for(doc, e):
+    """The manifest's settings for a still view; a camera path's entries take path_settings (one
+    render a frame: cheaper, with the reason in the manifest). An entry's own "settings" override
+    single values (a view whose rough band needs a larger budget to agree at 40 dB)."""
+    return {**(doc["path_settings"] if "path" in e else doc["settings"]), **e.get("settings", {})}
 
 
 _generated = {}
@@ -103,7 +115,8 @@ def scene_digest(gltf):
 
 def key(e, settings):
     h = scene_digest(scene_file(e))
-    h.update(json.dumps([e["camera"], e["size"], e["bounces"], settings, estimator_version()],
+    camera = e["camera"] if "camera" in e else file_hash(SOURCE / e["path"])
+    h.update(json.dumps([camera, e["size"], e["bounces"], settings, estimator_version()],
                         sort_keys=True).encode())
     return h.hexdigest()[:24]
 
@@ -118,23 +131,40 @@ def status(e, settings):
     return ("fresh" if recorded == key(e, settings) else "stale"), folder
 
 
-def lookup(scene, camera, size, bounces):
-    """The folder of the fresh entry for this view, or None and why not."""
+def lookup(scene, camera, size, bounces, path=None):
+    """The folder of the fresh entry for this view (a camera, or with path= a camera path file
+    relative to the source tree), or None and why not."""
+    folder, factor, why = lookup_scaled(scene, camera, size, bounces, path, scaled=False)
+    return folder, why
+
+
+def lookup_scaled(scene, camera, size, bounces, path=None, scaled=True):
+    """(folder, k, why): the fresh entry for this view at `size` (k = 1), or with scaled an entry
+    whose size times a whole k is `size` (960x540 -> 320x180, k = 3): the bench then scores the
+    engine's image at the reference's pixel centres (speculum-metrics --at-reference-pixels)."""
     doc = manifest()
+    w, h = (int(v) for v in size.lower().split("x"))
+    label = camera if path is None else Path(path).stem + "_path"
     for e in doc["entries"]:
-        if (e["scene"], e["camera"], e["size"], e["bounces"]) == (scene, camera, size, bounces):
-            state, folder = status(e, doc["settings"])
-            if state == "fresh":
-                return folder, None
-            return None, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
-    return None, (f"no converged reference for {scene}.{camera} at {size} with {bounces} bounces: add it to "
-                  f"{MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
+        if (e["scene"], view_label(e), e["bounces"]) != (scene, label, bounces):
+            continue
+        ew, eh = (int(v) for v in e["size"].split("x"))
+        k = w // ew
+        if not (k * ew == w and k * eh == h and (k == 1 or scaled)):
+            continue
+        state, folder = status(e, settings_for(doc, e))
+        if state == "fresh":
+            return folder, k, None
+        return None, k, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
+    return None, 0, (f"no converged reference for {scene}.{label} at {size}{' or a whole fraction of it' if scaled else ''} "
+                     f"with {bounces} bounces: add it to {MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
 
 
 def render(binary, e, settings, folder, scene=None):
     """Renders entry e (or the same view of `scene`) with the store's settings into folder."""
     s = settings
-    cmd = [binary, "--scene", str(scene or scene_file(e)), "--camera", e["camera"], "--size", e["size"],
+    view = ["--camera", e["camera"]] if "camera" in e else ["--path", str(SOURCE / e["path"])]
+    cmd = [binary, "--scene", str(scene or scene_file(e)), *view, "--size", e["size"],
            "--bounces", str(e["bounces"]), "--spp", str(s["spp"]), "--target-error", str(s["target_error"]),
            "--min-batches", str(s["min_batches"]), "--max-spp", str(s["max_spp"]),
            "--rough-max-spp", str(s["rough_max_spp"]), "--seed", str(s["seed"]), "--seeds", str(s["seeds"]),
@@ -146,7 +176,7 @@ def render(binary, e, settings, folder, scene=None):
 def regenerate(binary, only, force):
     doc = manifest()
     todo = [e for e in doc["entries"] if (not only or entry_name(e) in only)
-            and (force or status(e, doc["settings"])[0] != "fresh")]
+            and (force or status(e, settings_for(doc, e))[0] != "fresh")]
     unknown = set(only or []) - {entry_name(e) for e in doc["entries"]}
     if unknown:
         raise SystemExit(f"store.py: not in {MANIFEST.relative_to(SOURCE)}: {', '.join(sorted(unknown))}")
@@ -156,21 +186,30 @@ def regenerate(binary, only, force):
         print(f"[{i + 1}/{len(todo)}] {name}: rendering ({time.time() - start:.0f} s so far)", flush=True)
         tmp = STORE / f".{name}.tmp"
         shutil.rmtree(tmp, ignore_errors=True)
-        render(binary, e, doc["settings"], tmp)
+        render(binary, e, settings_for(doc, e), tmp)
         info = json.loads((tmp / "reference.json").read_text())
-        info["store_key"] = key(e, doc["settings"])
+        info["store_key"] = key(e, settings_for(doc, e))
         info["scene"] = str(scene_file(e).relative_to(SOURCE)) if "generator" not in e else e["generator"]
         (tmp / "reference.json").write_text(json.dumps(info, indent=2) + "\n")
         final = STORE / name
         shutil.rmtree(final, ignore_errors=True)
         tmp.rename(final)
-        frame = info["frames"][0]
-        agree = frame.get("seed_agreement", {})
-        print(f"[{i + 1}/{len(todo)}] {name}: {frame['seconds']:.0f} s, {frame['samples']['mean']:.0f} samples a "
-              f"reflective pixel; seeds agree at {fmt(agree.get('mirror'))} (mirror band), "
-              f"{fmt(agree.get('rough'))} (rough band), {agree.get('unconverged_pixels', 0)} pixels unconverged",
+        frames = info["frames"]
+        agree = worst_agreement(frames)
+        print(f"[{i + 1}/{len(todo)}] {name}: {sum(f['seconds'] for f in frames):.0f} s for {len(frames)} frame(s), "
+              f"{sum(f['samples']['mean'] for f in frames) / len(frames):.0f} samples a reflective pixel; seeds agree "
+              f"at {fmt(agree.get('mirror'))} (mirror band), {fmt(agree.get('rough'))} (rough band), "
+              f"{agree.get('unconverged_pixels', 0)} pixels unconverged{' (worst frame)' if len(frames) > 1 else ''}",
               flush=True)
     print(f"store.py: {len(todo)} reference(s) rendered in {time.time() - start:.0f} s")
+
+
+def worst_agreement(frames):
+    """The seed agreement of the frame whose mirror band agrees least (a path's weakest frame)."""
+    def mirror(f):
+        band = f.get("seed_agreement", {}).get("mirror") or {}
+        return band.get("psnr_db") if band.get("psnr_db") is not None else 1e9
+    return min(frames, key=mirror).get("seed_agreement", {})
 
 
 def fmt(band):
@@ -183,11 +222,13 @@ def check():
     doc = manifest()
     bad = 0
     for e in doc["entries"]:
-        state, folder = status(e, doc["settings"])
+        state, folder = status(e, settings_for(doc, e))
         line = f"{entry_name(e)}: {state}"
         if state == "fresh":
-            agree = json.loads((folder / "reference.json").read_text())["frames"][0].get("seed_agreement", {})
-            line += f" (seeds agree at {fmt(agree.get('mirror'))} mirror, {fmt(agree.get('rough'))} rough)"
+            frames = json.loads((folder / "reference.json").read_text())["frames"]
+            agree = worst_agreement(frames)
+            line += (f" (seeds agree at {fmt(agree.get('mirror'))} mirror, {fmt(agree.get('rough'))} rough"
+                     f"{f'; the worst of {len(frames)} frames' if len(frames) > 1 else ''})")
         else:
             bad += 1
         print(line)
