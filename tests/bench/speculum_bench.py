@@ -185,14 +185,14 @@ def reference_factor(ref_dir, size):
     return int(size.lower().split("x")[0]) // json.loads((ref_dir / "reference.json").read_text())["width"]
 
 
-def score(tools, test, ref_dir, aov, exposure, heatmap, size):
+def score(tools, test, ref_dir, aov, exposure, heatmap, size=None):
     """PSNR, MAE and gross share on the reflective pixels; against a converged reference also per
     band (mirror_psnr_db, rough_psnr_db), without the pixels it left unconverged, and with the
     reference's own seed agreement beside (reference_agreement_db: mirror band). A reference
-    smaller than the run by a whole k is scored at its own pixel centres."""
+    smaller than the run's size (WxH; None: the same) by a whole k is scored at its own pixel centres."""
     cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / f"{aov}.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--scale", str(exposure), "--heatmap", str(heatmap)]
-    if reference_factor(ref_dir, size) > 1:
+    if size and reference_factor(ref_dir, size) > 1:
         cmd += ["--at-reference-pixels"]
     if aov == "reflection":
         cmd += ["--test-mask", str(test)]
