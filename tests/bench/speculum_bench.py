@@ -100,8 +100,7 @@ def render_reference(tools, view, size, settings, cache):
     if settings.get("converged"):
         # The store's entry at this size or at a whole fraction of it (960x540 is scored at the
         # 320x180 entry's pixel centres; camera paths have 160x90 entries for 480x270 runs).
-        folder, _, why = store.lookup_scaled(view["scene"], view.get("camera"), size, settings["bounces"],
-                                             path=view.get("path"))
+        folder, why = store.lookup(view["scene"], view.get("camera"), size, settings["bounces"], path=view.get("path"))
         if folder is not None:
             return folder, True
         if settings.get("render_missing") and "camera" in view:

@@ -136,7 +136,8 @@ int main(int argc, char** argv) {
                     "reference 'stderror' AOV (repeatable): pixels above --max-ref-error are not scored");
     const char* atHelp = "the test is k times the reference's size (k whole): score it at the reference's pixel centres";
     cmp->add_flag("--at-reference-pixels", o.atReferencePixels, atHelp);
-    cmp->add_option("--max-ref-error", o.maxRefError, "standard error in display units above which a pixel is left out (default 0.01)");
+    const char* maxErrorHelp = "standard error in display units above which a pixel is left out (default 0.01)";
+    cmp->add_option("--max-ref-error", o.maxRefError, maxErrorHelp);
     CLI::App* fl = cli.add_subcommand("flicker", "excess flicker of a frame sequence against its reference");
     fl->add_option("--test", o.test, "engine output folder")->required();
     fl->add_option("--ref", o.ref, "reference output folder")->required();
@@ -148,7 +149,7 @@ int main(int argc, char** argv) {
     fl->add_flag("--at-reference-pixels", o.atReferencePixels, atHelp);
     fl->add_option("--ref-error-aov", o.refErrorAov,
                    "reference 'stderror' AOV (converged path): unconverged pixels left out, the reference's floor reported");
-    fl->add_option("--max-ref-error", o.maxRefError, "standard error in display units above which a pixel is left out (default 0.01)");
+    fl->add_option("--max-ref-error", o.maxRefError, maxErrorHelp);
     return app::toolMain("speculum-metrics", cli, argc, argv, [&] {
         if (!(o.scale > 0.0f)) throw argumentError("--scale must be positive");
         return cmp->parsed() ? compare(o) : flicker(o);

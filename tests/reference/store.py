@@ -132,32 +132,26 @@ def status(e, settings):
 
 
 def lookup(scene, camera, size, bounces, path=None):
-    """The folder of the fresh entry for this view (a camera, or with path= a camera path file
-    relative to the source tree), or None and why not."""
-    folder, factor, why = lookup_scaled(scene, camera, size, bounces, path, scaled=False)
-    return folder, why
-
-
-def lookup_scaled(scene, camera, size, bounces, path=None, scaled=True):
-    """(folder, k, why): the fresh entry for this view at `size` (k = 1), or with scaled an entry
-    whose size times a whole k is `size` (960x540 -> 320x180, k = 3): the bench then scores the
-    engine's image at the reference's pixel centres (speculum-metrics --at-reference-pixels)."""
+    """(folder, why): the fresh entry for this view (a camera, or with path= a camera path file
+    relative to the source tree) at `size`, or at a size a whole k times smaller (960x540 ->
+    320x180, k = 3; the bench then scores at the reference's pixel centres, speculum-metrics
+    --at-reference-pixels, and reads k from the entry's reference.json); or None and why not."""
     doc = manifest()
     w, h = (int(v) for v in size.lower().split("x"))
-    label = camera if path is None else Path(path).stem + "_path"
-    for e in doc["entries"]:
-        if (e["scene"], view_label(e), e["bounces"]) != (scene, label, bounces):
-            continue
+    label = view_label({"camera": camera} if path is None else {"path": path})
+    def factor(e):  # k, or 0 when the entry's size is no whole fraction of `size`
         ew, eh = (int(v) for v in e["size"].split("x"))
         k = w // ew
-        if not (k * ew == w and k * eh == h and (k == 1 or scaled)):
-            continue
+        return k if k * ew == w and k * eh == h else 0
+    matches = [e for e in doc["entries"] if (e["scene"], view_label(e), e["bounces"]) == (scene, label, bounces)
+               and factor(e)]
+    for e in sorted(matches, key=factor)[:1]:  # the largest entry that fits: k = 1 when there is one
         state, folder = status(e, settings_for(doc, e))
         if state == "fresh":
-            return folder, k, None
-        return None, k, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
-    return None, 0, (f"no converged reference for {scene}.{label} at {size}{' or a whole fraction of it' if scaled else ''} "
-                     f"with {bounces} bounces: add it to {MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
+            return folder, None
+        return None, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
+    return None, (f"no converged reference for {scene}.{label} at {size} or a whole fraction of it "
+                  f"with {bounces} bounces: add it to {MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
 
 
 def render(binary, e, settings, folder, scene=None):
