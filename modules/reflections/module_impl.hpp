@@ -61,7 +61,7 @@ struct ReflectionHistory {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, reproject, colorDown, hizView, temporal, refresh;
+    gpu::Pipeline hiz, visibility, colorDown, hizView, temporal, refresh;
     BilateralUpsampler upsampler;
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
@@ -72,7 +72,8 @@ struct Reflections::Impl {
     static constexpr size_t kTileModes = 4;
     std::array<std::optional<gpu::Pipeline>, 8 * kTileModes> traces;
     std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> resolves;
-    std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 2> composites;  // per view, temporal
+    // Per view, temporal, tiled and tile scale (composite.comp's constants).
+    std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 8> composites;
     const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
@@ -81,7 +82,17 @@ struct Reflections::Impl {
     // reflections.classify per resolution and ray budget.
     std::array<std::optional<gpu::Pipeline>, 4> classifies;
     const gpu::Pipeline& classify(Resolution resolution, RayBudget budget);
-    const gpu::Pipeline& composite(DebugView view, bool temporal);
+    struct CompositeVariant {
+        DebugView view = DebugView::None;
+        bool temporal = false;
+        bool tiled = false;     // on the reflective tiles only (after reflections.composite_copy)
+        bool half = false;      // tiles of the half-size trace: 16x16 full pixels each
+    };
+    const gpu::Pipeline& composite(const CompositeVariant& v);
+    // reflections.reproject per tile mode (the whole screen, the reflective tiles, the rest) and
+    // tile scale (half resolution's tiles cover 16x16 full pixels).
+    std::array<std::optional<gpu::Pipeline>, 6> reprojects;
+    const gpu::Pipeline& reproject(uint32_t tileMode, bool half);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
     gpu::Buffer uniforms;
@@ -115,8 +126,10 @@ struct Reflections::Impl {
     // Passes, in frame order (passes.cpp).
     TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels);
     TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
+    // Level 0 (reflections.reproject) runs on the reflective tiles' footprints with `s.tiles`.
+    struct Classified;
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
-                                  uint32_t levels);
+                                  uint32_t levels, const Classified& tiles, const ReflectionSettings& s);
     // reflections.classify (and reflections.tile_clear before it): the tile lists (tiles.h); at
     // half resolution also the guide (which full pixel each half pixel traces,
     // modules/reflections/shaders/guide.glsl).
@@ -137,6 +150,11 @@ struct Reflections::Impl {
     };
     void dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
                        std::initializer_list<TileRun> runs, VkExtent2D extent) const;
+    // A full-resolution pass on the trace's tiles (tiles.glsl, footprintPixel): each run's
+    // pipeline by indirect dispatch from its list, the list's index as the push constant; with
+    // `tiled` false, the first run's pipeline over `extent` in 8x8 workgroups.
+    void dispatchFootprints(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
+                            std::initializer_list<TileRun> runs, VkExtent2D extent) const;
     // reflections.cmo_trace: what screen space leaves, through the CMOs (out.cmo, out.cmoInfo).
     void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                      ReflectionOutputs& out);
@@ -165,8 +183,8 @@ struct Reflections::Impl {
         TextureHandle history;  // the lit image with this frame's own reflection (the next colour pyramid's)
     };
     // `raw`: with temporal accumulation, this frame's reflection (out.reflection is the accumulated one).
-    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out, BufferHandle tiles,
-                            DebugView view, TextureHandle raw);
+    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+                            const Classified& tiles, const ReflectionSettings& s, TextureHandle raw);
     void addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 

@@ -91,9 +91,10 @@ TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizP
 }
 
 TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
-                                                 uint32_t levels) {
+                                                 uint32_t levels, const Classified& tiles, const ReflectionSettings& s) {
     struct ReprojectData {
-        TextureHandle depth, motion, lit, historyColor, historyDepth, dst;
+        TextureHandle depth, motion, lit, emissive, historyColor, historyDepth, dst;
+        BufferHandle tiles;
     };
     historyColor = g.importHistory("reflections.history.color", history.color.history());
     historyDepth = g.importHistory("reflections.history.depth", history.depth.history());
@@ -103,20 +104,32 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             d.depth = b.read(in.gbuffer.depth, TextureUsage::Sampled);
             d.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
             d.lit = b.read(in.lit, TextureUsage::Sampled);
+            d.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             d.historyColor = b.read(historyColor.previous, TextureUsage::Sampled);
             d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+            d.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            if (s.tiles) b.read(tiles.tiles, BufferUsage::Indirect);
             TextureHandle pyramid = b.create("reflections.color", TextureDesc{.format = kColorFormat, .mips = levels});
             d.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
         },
-        [this](const ReprojectData& d, PassContext& pc) {
+        [this, tiled = s.tiles, half = tiles.guide.valid()](const ReprojectData& d, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
             w.sampled("depthTex", pc.view(d.depth), nearest)
                 .sampled("motionTex", pc.view(d.motion), nearest)
                 .sampled("litTex", pc.view(d.lit), nearest)
+                .sampled("emissiveTex", pc.view(d.emissive), nearest)
+                .buffer("MaterialTable", materials.get())
                 .sampled("historyColor", pc.view(d.historyColor), trilinear)
                 .sampled("historyDepth", pc.view(d.historyDepth), nearest)
-                .storage("dst", pc.view(d.dst, mipLevel(0)));
-            dispatch(pc, reproject, w, pc.extent(d.dst, 0));
+                .storage("dst", pc.view(d.dst, mipLevel(0)))
+                .buffer("tiles", pc.buffer(d.tiles));
+            using namespace shader;
+            const uint32_t work = tiled ? kTileModeWork : kTileModeScreen;
+            dispatchFootprints(pc, w, d.tiles, tiled,
+                               {{&reproject(work, half), kListResolveRay},
+                                {&reproject(kTileModeWork, half), kListLookup},
+                                {&reproject(kTileModeFill, half), kListResolveFill}},
+                               pc.extent(d.dst, 0));
         });
     TextureHandle pyramid = r.dst;
     // Each level also carries the visibility pyramid's level in alpha (level 0: 1, as reproject
@@ -367,42 +380,73 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
 }
 
 Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                                              const ReflectionOutputs& out, BufferHandle tiles,
-                                                              DebugView view, TextureHandle raw) {
+                                                              const ReflectionOutputs& out, const Classified& tiles,
+                                                              const ReflectionSettings& s, TextureHandle raw) {
+    const DebugView view = s.debugView;
+    const bool separate = view != DebugView::None || raw.valid();
+    // Work follows need: with tiles and no debug view (a debug view draws every pixel) the
+    // composite runs on the reflective tiles only, into outputs that hold the lit image already.
+    const CompositeVariant variant{view, raw.valid(), s.tiles && view == DebugView::None, tiles.guide.valid()};
+    const TextureDesc litDesc{.format = render::kLinearFormat};
+    TextureHandle copiedDst, copiedPlain;
+    if (variant.tiled) {
+        struct CopyData {
+            TextureHandle lit, dst, plain;
+        };
+        const auto& c = g.addPass<CopyData>(
+            "reflections.composite_copy", PassType::Transfer,
+            [&](PassBuilder& b, CopyData& d) {
+                d.lit = b.read(in.lit, TextureUsage::TransferSrc);
+                d.dst = b.write(b.create("reflections.lit", litDesc), TextureUsage::TransferDst);
+                if (separate) d.plain = b.write(b.create("reflections.lit_plain", litDesc), TextureUsage::TransferDst);
+            },
+            [](const CopyData& d, PassContext& pc) {
+                VkExtent2D e = pc.extent(d.lit);
+                VkImageCopy copy{};
+                copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                copy.dstSubresource = copy.srcSubresource;
+                copy.extent = {e.width, e.height, 1};
+                for (TextureHandle dst : {d.dst, d.plain})
+                    if (dst.valid())
+                        vkCmdCopyImage(pc.cmd(), pc.image(d.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
+                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+            });
+        copiedDst = c.dst;
+        copiedPlain = c.plain;
+    }
     struct Data {
         TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, debug, dst, plain;
         BufferHandle tiles;
     };
-    const bool separate = view != DebugView::None || raw.valid();
     const auto& d = g.addPass<Data>(
         "reflections.composite", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.lit = b.read(in.lit, TextureUsage::Sampled);
-            data.tiles = b.read(tiles, BufferUsage::StorageRead);  // the tiles debug view
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);  // the tiles debug view, the tiled dispatch
+            if (variant.tiled) b.read(tiles.tiles, BufferUsage::Indirect);
             data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.reflection = b.read(out.reflection, TextureUsage::Sampled);
             // Without temporal accumulation the reflection is bound in raw's place (unread).
-            data.raw = b.read(raw.valid() ? raw : out.reflection, TextureUsage::Sampled);
+            data.raw = b.read(raw.valid() ? raw : data.reflection, TextureUsage::Sampled);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             // Only the method debug view reads the weights: otherwise the reflection is bound in
             // their place, so that the graph can cull the half-resolution method upsampling.
             data.debug = b.read(view == DebugView::Method                      ? out.method
                                  : view == DebugView::Cmo && out.cmoInfo.valid() ? out.cmoInfo
-                                                                                 : out.reflection,
+                                                                                 : data.reflection,
                                  TextureUsage::Sampled);
-            data.dst = b.write(b.create("reflections.lit", TextureDesc{.format = render::kLinearFormat}),
-                               TextureUsage::StorageWrite);
+            data.dst = b.write(variant.tiled ? copiedDst : b.create("reflections.lit", litDesc), TextureUsage::StorageWrite);
             // A debug view replaces the image; the history still gets the real one, or the
             // next frames would reflect the debug colours. With temporal accumulation the
             // history gets this frame's own reflection (composite.comp says why).
             if (separate)
-                data.plain = b.write(b.create("reflections.lit_plain", TextureDesc{.format = render::kLinearFormat}),
+                data.plain = b.write(variant.tiled ? copiedPlain : b.create("reflections.lit_plain", litDesc),
                                      TextureUsage::StorageWrite);
         },
-        [this, view, separate, temporal = raw.valid()](const Data& data, PassContext& pc) {
+        [this, variant, separate](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = writer();
             w.sampled("litTex", pc.view(data.lit), nearest)
@@ -419,7 +463,11 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                 .storage("plainOut", pc.view(separate ? data.plain : data.dst))  // unused when not separate
                 .sampled("rawReflectionTex", pc.view(data.raw), nearest)
                 .buffer("tiles", pc.buffer(data.tiles));
-            dispatch(pc, composite(view, temporal), w, pc.extent(data.dst));
+            // With tiles, the tiles that reflect: those with a screen-space ray and those with
+            // lookups only.
+            const gpu::Pipeline& p = composite(variant);
+            dispatchFootprints(pc, w, data.tiles, variant.tiled,
+                               {{&p, shader::kListResolveRay}, {&p, shader::kListLookup}}, pc.extent(data.dst));
         });
     return {d.dst, separate ? d.plain : d.dst};
 }

@@ -40,7 +40,6 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
       hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", sizeof(uint32_t), "reflections.hiz")),
       visibility(
           gpu::createComputePipeline(c, "reflections/visibility.comp", sizeof(uint32_t), "reflections.visibility")),
-      reproject(gpu::createComputePipeline(c, "reflections/reproject.comp", 0, "reflections.reproject")),
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", 0, "reflections.color_pyramid")),
       hizView(gpu::createComputePipeline(c, "reflections/hiz_view.comp", 0, "reflections.hiz_view")),
       temporal(gpu::createComputePipeline(c, "reflections/temporal.comp", 0, "reflections.temporal")),
@@ -305,11 +304,38 @@ void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWrit
     }
 }
 
-const gpu::Pipeline& Reflections::Impl::composite(DebugView view, bool temporal) {
-    std::optional<gpu::Pipeline>& p = composites.at(size_t(view) * 2 + (temporal ? 1 : 0));
+const gpu::Pipeline& Reflections::Impl::reproject(uint32_t tileMode, bool half) {
+    std::optional<gpu::Pipeline>& p = reprojects.at(size_t(tileMode) * 2 + (half ? 1 : 0));
     if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", 0, "reflections.composite",
-                                       {uint32_t(view), temporal ? 1u : 0u});
+        p = gpu::createComputePipeline(ctx, "reflections/reproject.comp", sizeof(uint32_t), "reflections.reproject",
+                                       withTileMode({0u, 0u, half ? 2u : 1u}, tileMode));
+    return *p;
+}
+
+void Reflections::Impl::dispatchFootprints(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles,
+                                           bool tiled, std::initializer_list<TileRun> runs, VkExtent2D extent) const {
+    for (const TileRun& run : runs) {
+        gpu::DescriptorWriter copy = w;  // push() clears its writer
+        run.pipeline->bind(pc.cmd());
+        copy.push(ctx, pc.cmd(), *run.pipeline);
+        vkCmdPushConstants(pc.cmd(), run.pipeline->layout(), kCompute, 0, sizeof(run.list), &run.list);
+        if (!tiled) {
+            vkCmdDispatch(pc.cmd(), (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
+            return;
+        }
+        vkCmdDispatchIndirect(pc.cmd(), pc.buffer(tiles), VkDeviceSize(run.list) * sizeof(glm::uvec4));
+    }
+}
+
+const gpu::Pipeline& Reflections::Impl::composite(const CompositeVariant& v) {
+    std::optional<gpu::Pipeline>& p =
+        composites.at(size_t(v.view) * 8 + (v.temporal ? 4 : 0) + (v.tiled ? 2 : 0) + (v.half ? 1 : 0));
+    if (!p) {
+        using namespace shader;
+        std::vector<uint32_t> constants{uint32_t(v.view), v.temporal ? 1u : 0u, v.half ? 2u : 1u};
+        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", sizeof(uint32_t), "reflections.composite",
+                                       withTileMode(std::move(constants), v.tiled ? kTileModeWork : kTileModeScreen));
+    }
     return *p;
 }
 
@@ -338,8 +364,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     ReflectionOutputs out;
     out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
     out.visibility = m.addVisibility(graph, out.hiz, levels);
-    out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels);
     Impl::Classified tiles = m.addClassify(graph, in, out.hiz, s);
+    out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels, tiles, s);
     TextureHandle guide = out.guide = tiles.guide;
     out.hit = m.addTrace(graph, in, out.hiz, tiles, s);
     if (s.cmos && in.probes.cmos.records.valid() && in.probes.cmos.count > 0) m.addCmoTrace(graph, in, tiles, s, out);
@@ -357,7 +383,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     }
     TextureHandle raw = out.reflection;
     if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, out.distance);
-    Impl::Composited composited = m.addComposite(graph, in, out, tiles.tiles, s.debugView, s.temporal ? raw : TextureHandle{});
+    Impl::Composited composited = m.addComposite(graph, in, out, tiles, s, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.addHistory(graph, composited.history, in.gbuffer.depth);

@@ -3,6 +3,17 @@
 // reflections.composite: adds the reflection times the split-sum DFG term (F0 * A + B) to the
 // lit image on reflective pixels (render.lighting left their specular ambient out), or draws
 // the selected debug view instead.
+//
+// Work follows need (issue 23): with reflections.tiles and no debug view it runs only on the
+// tiles that reflect (the resolve's ray and lookup lists, tiles.h), each workgroup taking a
+// tile's full-resolution footprint (kTileScale x kTileScale blocks of 8x8 at half resolution),
+// after reflections.composite_copy has copied the lit image into its outputs whole: every other
+// pixel's result is the lit image as it is (render.lighting writes alpha 1, as this pass does).
+// A tile is in those lists when any of its trace pixels reflects, and at half resolution a trace
+// pixel reflects when any of its 2x2 does (guide.glsl: reflective pixels first), so no reflective
+// pixel is left out.
+// (Fusing the half-resolution upsampling in here was measured and dropped: on the gallery, 90%
+// reflective, the fused pass cost 39 ms against 18 + 20 for the two; MEASUREMENTS, issue 23.)
 #include "common/brdf.glsl"
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
@@ -34,6 +45,12 @@ layout(constant_id = 0) const uint kDebugView = 0u;
 #include "reflections/shaders/tiles.glsl"
 // reflections.temporal: reflectionTex is the accumulated reflection, rawReflectionTex this frame's.
 layout(constant_id = 1) const uint kTemporal = 0u;
+// Full-resolution pixels per trace pixel along an axis (2 at half resolution): a tile's footprint.
+layout(constant_id = 2) const uint kTileScale = 1u;
+// The list this dispatch takes its tiles from (kTileModeWork only).
+layout(push_constant) uniform CompositeConstants {
+    uint list;
+} cc;
 
 vec3 heat(float x) {
     x = clamp(x, 0.0, 1.0);
@@ -88,9 +105,7 @@ vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
     return texelFetch(reflectionTex, pixel, 0).rgb;
 }
 
-void main() {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(pixel, ivec2(rf.size.xy)))) return;
+void compositePixel(ivec2 pixel) {
     vec3 lit = texelFetch(litTex, pixel, 0).rgb;
     float depth;
     vec4 normalRough;
@@ -113,4 +128,17 @@ void main() {
     // Debug colours are divided by the exposure so that they reach the screen near their value.
     if (kDebugView != 0u) color = debugView(kDebugView, pixel, reflective, lit) * rf.invExposure;
     imageStore(dst, pixel, vec4(color, 1.0));
+}
+
+void main() {
+    ivec2 size = ivec2(rf.size.xy);
+    if (kTileMode == kTileModeScreen) {
+        ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+        if (all(lessThan(pixel, size))) compositePixel(pixel);
+        return;
+    }
+    for (uint i = 0u; i < kTileScale * kTileScale; ++i) {
+        ivec2 pixel = footprintPixel(cc.list, kTileScale, i);
+        if (all(lessThan(pixel, size))) compositePixel(pixel);
+    }
 }
