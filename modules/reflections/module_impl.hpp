@@ -61,7 +61,7 @@ struct ReflectionHistory {
 struct Reflections::Impl {
     const gpu::Context& ctx;
     render::Renderer& renderer;
-    gpu::Pipeline hiz, visibility, colorDown, hizView, temporal, refresh;
+    gpu::Pipeline hiz, hizFirst, visibility, colorDown, hizView, temporal, refresh;
     BilateralUpsampler upsampler;
     // One pipeline per tracer and per debug view (specialization constants), made on first
     // use: lavapipe runs both sides of a uniform branch, so the untaken tracer's loops cost the
@@ -124,8 +124,11 @@ struct Reflections::Impl {
     void ensureHistory(uint32_t w, uint32_t h, bool refreshImages);
 
     // Passes, in frame order (passes.cpp).
-    TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels);
-    TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, uint32_t levels);
+    // The Hi-Z pyramid; `visibility` gets the visibility pyramid with its level 1 written (by the
+    // first pass, hiz_first.comp), invalid for a 1x1 view.
+    TextureHandle addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels, TextureHandle& visibility);
+    // The visibility pyramid's levels 2 and up, after `level1`.
+    TextureHandle addVisibility(FrameGraph& g, TextureHandle hiz, TextureHandle level1, uint32_t levels);
     // Level 0 (reflections.reproject) runs on the reflective tiles' footprints with `s.tiles`.
     struct Classified;
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,

@@ -23,29 +23,54 @@ std::string levelName(const char* pass, uint32_t level) {
 
 }  // namespace
 
-TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels) {
+TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels, TextureHandle& visibility) {
+    // Levels 0 and 1 and visibility level 1 in one pass (hiz_first.comp); a 1x1 view has level 0 only.
+    struct FirstData {
+        TextureHandle depth, level0, level1, visibility;
+    };
+    const bool two = levels > 1;
+    const auto& first = g.addPass<FirstData>(
+        levelName("hiz", 0), PassType::Compute,
+        [&](PassBuilder& b, FirstData& data) {
+            data.depth = b.read(depth, TextureUsage::Sampled);
+            TextureHandle pyramid = b.create("reflections.hiz", TextureDesc{.format = kHiZFormat, .mips = levels});
+            data.level0 = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
+            if (!two) return;
+            data.level1 = b.write(data.level0, TextureUsage::StorageWrite, mipLevel(1));
+            TextureHandle vis = b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
+            data.visibility = b.write(vis, TextureUsage::StorageWrite, mipLevel(1));
+        },
+        [this, two](const FirstData& data, PassContext& pc) {
+            gpu::DescriptorWriter w = writer();
+            if (!two) {
+                uint32_t level = 0;
+                w.sampled("src", pc.view(data.depth), nearest).storage("dst", pc.view(data.level0, mipLevel(0)));
+                dispatch(pc, hiz, w, pc.extent(data.level0, 0), &level, sizeof(level));
+                return;
+            }
+            w.sampled("depthTex", pc.view(data.depth), nearest)
+                .storage("level0", pc.view(data.level1, mipLevel(0)))
+                .storage("level1", pc.view(data.level1, mipLevel(1)))
+                .storage("visibility1", pc.view(data.visibility, mipLevel(1)));
+            dispatch(pc, hizFirst, w, pc.extent(data.level1, 1));
+        });
+    visibility = first.visibility;
+    TextureHandle pyramid = two ? first.level1 : first.level0;
     struct Data {
         TextureHandle src, dst;
         uint32_t level;
     };
-    TextureHandle pyramid;
-    for (uint32_t level = 0; level < levels; ++level) {
+    for (uint32_t level = 2; level < levels; ++level) {
         const auto& d = g.addPass<Data>(
             levelName("hiz", level), PassType::Compute,
             [&](PassBuilder& b, Data& data) {
                 data.level = level;
-                if (level == 0) {
-                    data.src = b.read(depth, TextureUsage::Sampled);
-                    pyramid = b.create("reflections.hiz", TextureDesc{.format = kHiZFormat, .mips = levels});
-                } else {
-                    data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
-                }
+                data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
                 data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
             },
             [this](const Data& data, PassContext& pc) {
-                Subresource src = data.level == 0 ? Subresource{} : mipLevel(data.level - 1);
                 gpu::DescriptorWriter w;  // hiz.comp reads no frame constants
-                w.sampled("src", pc.view(data.src, src), nearest)
+                w.sampled("src", pc.view(data.src, mipLevel(data.level - 1)), nearest)
                     .storage("dst", pc.view(data.dst, mipLevel(data.level)));
                 dispatch(pc, hiz, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
             });
@@ -54,34 +79,29 @@ TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint
     return pyramid;
 }
 
-TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizPyramid, uint32_t levels) {
+TextureHandle Reflections::Impl::addVisibility(FrameGraph& g, TextureHandle hizPyramid, TextureHandle level1,
+                                               uint32_t levels) {
     struct Data {
         TextureHandle hiz, src, dst;
         uint32_t level;
     };
     // Level 0 is fully visible by definition and nothing reads it (the colour pyramid's level 0
     // carries 1 in alpha, and level 1 assumes it): it is never written, one full-resolution
-    // pass less (issue 13, "cheaper fixed cost").
-    TextureHandle pyramid;
-    for (uint32_t level = 1; level < levels; ++level) {
+    // pass less (issue 13, "cheaper fixed cost"). Level 1 comes from reflections.hiz.0.
+    TextureHandle pyramid = level1;
+    for (uint32_t level = 2; level < levels; ++level) {
         const auto& d = g.addPass<Data>(
             levelName("visibility", level), PassType::Compute,
             [&](PassBuilder& b, Data& data) {
                 data.level = level;
                 data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
-                if (level == 1)
-                    pyramid =
-                        b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
-                else
-                    data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
+                data.src = b.read(pyramid, TextureUsage::Sampled, mipLevel(level - 1));
                 data.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(level));
             },
             [this](const Data& data, PassContext& pc) {
                 gpu::DescriptorWriter w = writer();
-                // Level 1 reads no finer level (level 0 is 1): bind the Hi-Z in its place (unread).
-                VkImageView fine = data.level == 1 ? pc.view(data.hiz) : pc.view(data.src, mipLevel(data.level - 1));
                 w.sampled("hiz", pc.view(data.hiz), nearest)
-                    .sampled("fineVis", fine, nearest)
+                    .sampled("fineVis", pc.view(data.src, mipLevel(data.level - 1)), nearest)
                     .storage("dst", pc.view(data.dst, mipLevel(data.level)));
                 dispatch(pc, visibility, w, pc.extent(data.dst, data.level), &data.level, sizeof(uint32_t));
             });

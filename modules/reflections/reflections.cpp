@@ -38,6 +38,7 @@ Reflections::Impl::Impl(const gpu::Context& c, render::Renderer& r)
     : ctx(c),
       renderer(r),
       hiz(gpu::createComputePipeline(c, "reflections/hiz.comp", sizeof(uint32_t), "reflections.hiz")),
+      hizFirst(gpu::createComputePipeline(c, "reflections/hiz_first.comp", 0, "reflections.hiz")),
       visibility(
           gpu::createComputePipeline(c, "reflections/visibility.comp", sizeof(uint32_t), "reflections.visibility")),
       colorDown(gpu::createComputePipeline(c, "reflections/color_down.comp", 0, "reflections.color_pyramid")),
@@ -362,8 +363,9 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     m.writeUniforms(in, s, asked, w, h, levels);
 
     ReflectionOutputs out;
-    out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels);
-    out.visibility = m.addVisibility(graph, out.hiz, levels);
+    TextureHandle visibility1;
+    out.hiz = m.addHiZ(graph, in.gbuffer.depth, levels, visibility1);
+    out.visibility = m.addVisibility(graph, out.hiz, visibility1, levels);
     Impl::Classified tiles = m.addClassify(graph, in, out.hiz, s);
     out.colorPyramid = m.addColorPyramid(graph, in, out.visibility, levels, tiles, s);
     TextureHandle guide = out.guide = tiles.guide;

@@ -8,8 +8,10 @@ about `--share` of the pixels reflect (every other material gets SPECULUM_reflec
                   [--size 960x540] [--share 0.10] [--rounds 3] [--frames 5]
 
 Prints the chosen materials, each variant's measured share (pixels whose method weights are not
-zero, from the method AOV) and a markdown table of the module's ms (the sum of the reflections.*
-passes' GPU medians; median over rounds) and the frame's. Timing only, never an assertion."""
+zero, from the method AOV), a markdown table of the module's ms (the sum of the reflections.*
+passes' GPU medians; median over rounds) and the frame's, and each reflections.* pass's ms per
+variant (pyramid levels summed), so that what does not follow the share shows. Timing only,
+never an assertion."""
 import argparse, copy, json, os, statistics, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -84,7 +86,7 @@ def main():
         measured = {"all": share(a, full, os.path.join(tmp, "sa")), "part": share(a, part, os.path.join(tmp, "sp"))}
         names = [doc["materials"][i].get("name", str(i)) for i in sorted(keep)]
         print("reflective materials of the partial variant: %s" % ", ".join(names))
-        runs = {}
+        runs, passes = {}, {}
         for r in range(a.rounds):
             for tiles in ("true", "false"):
                 for name, path in (("all", full), ("part", part)):
@@ -92,6 +94,12 @@ def main():
                     t = capture(a, path, a.size, a.frames, os.path.join(tmp, "t"), ["reflections.tiles=" + tiles])
                     module = sum(p["median_ms"] for p in t["passes"] if p["name"].startswith("reflections."))
                     runs.setdefault((tiles, name), []).append((module, t["frame"]["median_ms"]))
+                    for p in t["passes"]:
+                        stem, _, last = p["name"].rpartition(".")
+                        key = stem if last.isdigit() else p["name"]  # pyramid levels summed
+                        if key.startswith("reflections."):
+                            got = passes.setdefault((tiles, name), {}).setdefault(key, {})
+                            got[r] = got.get(r, 0.0) + p["median_ms"]
         print("\n%s/%s %s, %d rounds alternating, load average %.2f\n" % (os.path.basename(a.scene), a.camera, a.size,
                                                                      a.rounds, os.getloadavg()[0]))
         print("| reflections.tiles | variant | reflective share | module ms | frame ms | module / all's |")
@@ -102,6 +110,16 @@ def main():
                 m = statistics.median(x for x, _ in runs[(tiles, name)])
                 f = statistics.median(x for _, x in runs[(tiles, name)])
                 print("| %s | %s | %.1f%% | %.1f | %.1f | %.2f |" % (tiles, name, 100 * measured[name], m, f, m / base))
+        columns = [(t, n) for t in ("true", "false") for n in ("all", "part")]
+        print("\n| pass (median ms) | " + " | ".join("tiles=%s %s" % c for c in columns) + " |")
+        print("|---" * (len(columns) + 1) + "|")
+        names = sorted({k for c in columns for k in passes.get(c, {})})
+        for key in names:
+            cells = []
+            for c in columns:
+                v = passes.get(c, {}).get(key)
+                cells.append("%.1f" % statistics.median(v.values()) if v else "-")
+            print("| %s | %s |" % (key, " | ".join(cells)))
 
 
 if __name__ == "__main__":
