@@ -76,7 +76,10 @@ RendererOptions& Renderer::options() {
 
 void Renderer::setNodeVisible(int node, bool visible) {
     for (DrawItem& d : impl_->gpuScene.draws)
-        if (d.node == node) d.hidden = !visible;
+        if (d.node == node && d.hidden == visible) {
+            d.hidden = !visible;
+            impl_->shadowCasters += 1;  // the shadow map is drawn again (shadow.cpp)
+        }
 }
 
 void Renderer::updateMaterialFactors() {

@@ -165,16 +165,31 @@ TextureHandle Renderer::Impl::addShadowPasses(FrameGraph& graph, const FrameInpu
         TextureHandle map;
     };
     const uint32_t size = options.shadowMapSize;
-    const auto& s = graph.addPass<ShadowData>(
-        "render.shadow", PassType::Raster,
-        [&](PassBuilder& b, ShadowData& d) {
-            TextureDesc desc{.width = size, .height = size, .format = kDepthFormat};
-            d.map = b.write(b.create("render.shadow_map", desc), TextureUsage::DepthAttachment);
-        },
-        [this, size](const ShadowData& d, PassContext& ctx) {
-            recordShadow(ctx.cmd(), ctx.view(d.map), size);
-        });
-
+    if (shadowMap.get() == VK_NULL_HANDLE || shadowMap.desc().width != size) {
+        shadowMap = gpu::Image(ctx,
+                               {.width = size,
+                                .height = size,
+                                .format = kDepthFormat,
+                                .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT},
+                               "render.shadow_map");
+        shadowDrawn = 0;
+    }
+    // Drawn once per change; every later frame (and planar probe view) reads it as it is.
+    const bool current = shadowDrawn == shadowCasters;
+    const VkImageLayout held = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    TextureHandle map = graph.importTexture(
+        "render.shadow_map", {.width = size, .height = size, .format = kDepthFormat},
+        {shadowMap.get(), current ? held : VK_IMAGE_LAYOUT_UNDEFINED, held, shadowMap.desc().usage});
+    if (!current) {
+        const auto& s = graph.addPass<ShadowData>(
+            "render.shadow", PassType::Raster,
+            [&](PassBuilder& b, ShadowData& d) { d.map = b.write(map, TextureUsage::DepthAttachment); },
+            [this, size, casters = shadowCasters](const ShadowData& d, PassContext& ctx) {
+                recordShadow(ctx.cmd(), ctx.view(d.map), size);
+                shadowDrawn = casters;  // recorded: the frames after this one read it
+            });
+        map = s.map;
+    }
     struct MaskData {
         TextureHandle depth, map, mask;
     };
@@ -182,7 +197,7 @@ TextureHandle Renderer::Impl::addShadowPasses(FrameGraph& graph, const FrameInpu
         "render.shadow_mask", PassType::Raster,
         [&](PassBuilder& b, MaskData& d) {
             d.depth = b.read(depth, TextureUsage::Sampled);
-            d.map = b.read(s.map, TextureUsage::Sampled);
+            d.map = b.read(map, TextureUsage::Sampled);
             TextureDesc desc{.format = VK_FORMAT_R8_UNORM};
             d.mask =
                 b.write(b.create("render.shadow_mask", desc), TextureUsage::ColorAttachment);

@@ -50,6 +50,48 @@ TEST_F(RenderShadow, MaskIsZeroUnderAnOccluderAndOneInTheOpen) {
               0.5f * f.at("render.linear", lit.x, lit.y).g);
 }
 
+// The shadow map is drawn once and kept (it is fitted to the scene's bounds, not the view): a
+// second frame from another camera gets the same mask where both see the ground; hiding the
+// occluder (Renderer::setNodeVisible, the game's collected gems) draws it again without the
+// shadow, and showing it draws the shadow back. A cache that missed a change would keep the
+// shadow of a hidden node.
+TEST_F(RenderShadow, TheMapIsKeptAcrossFramesAndRedrawnWhenACasterHides) {
+    Scene scene;
+    scene.nodes.resize(2);
+    scene.materials.push_back(Material{});
+    test::addMesh(scene, test::square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 10.0f, 0));
+    const glm::vec3 occluder{-1.0f, 1.5f, -1.0f};
+    test::addMesh(scene, test::square(occluder, {1, 0, 0}, {0, 0, -1}, 1.0f, 0));
+    scene.instances[0].node = 0;
+    scene.instances[1].node = 1;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.4f, -1.0f, 0.3f));
+    sun.intensity = 5.0f;
+    scene.lights.push_back(sun);
+    Renderer renderer(ctx, scene, {.shadowMapSize = 1024});
+    CameraState cam = makeCamera({0, 9, 6}, {0, 0, -1}, {0, 1, 0}, 0.9f, 128, 96);
+    const glm::vec3 shadowCentre = occluder + sun.direction * (occluder.y / -sun.direction.y);
+    auto maskAt = [&](const test::Frame& f, const CameraState& c, glm::vec3 p) {
+        glm::ivec2 px = pixelOf(c, p);
+        return f.at("render.shadow_mask", uint32_t(px.x), uint32_t(px.y)).r;
+    };
+    test::Frame first = test::renderFrame(ctx, renderer, cam);
+    ASSERT_EQ(maskAt(first, cam, shadowCentre), 0.0f);
+    // Another view, the map as it was: the same shadow, and this camera's own mask is the one a
+    // renderer that draws the map for this frame gives, bit for bit.
+    CameraState side = makeCamera({6, 7, 4}, {0, 0, -1}, {0, 1, 0}, 0.9f, 128, 96);
+    test::Frame kept = test::renderFrame(ctx, renderer, side);
+    Renderer fresh(ctx, scene, {.shadowMapSize = 1024});
+    test::Frame drawn = test::renderFrame(ctx, fresh, side);
+    EXPECT_EQ(kept.images.at("render.shadow_mask"), drawn.images.at("render.shadow_mask"));
+    EXPECT_EQ(maskAt(kept, side, shadowCentre), 0.0f);
+    renderer.setNodeVisible(1, false);
+    EXPECT_EQ(maskAt(test::renderFrame(ctx, renderer, cam), cam, shadowCentre), 1.0f) << "a hidden node's shadow stayed";
+    renderer.setNodeVisible(1, true);
+    EXPECT_EQ(maskAt(test::renderFrame(ctx, renderer, cam), cam, shadowCentre), 0.0f) << "the shadow did not come back";
+}
+
 // No directional light: no shadow passes, and lighting binds a fully lit stand-in.
 TEST_F(RenderShadow, NoDirectionalLightMeansNoMask) {
     Scene scene;
