@@ -6,6 +6,7 @@
 #include "speculum/reflections/upsample.hpp"
 
 #include <array>
+#include <map>
 #include <initializer_list>
 #include <optional>
 
@@ -72,8 +73,8 @@ struct Reflections::Impl {
     static constexpr size_t kTileModes = 4;
     std::array<std::optional<gpu::Pipeline>, 8 * kTileModes> traces;
     std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> resolves;
-    // Per view, temporal, tiled and tile scale (composite.comp's constants).
-    std::array<std::optional<gpu::Pipeline>, kDebugViewCount * 8> composites;
+    // Per view, temporal, tiled, tile scale and list (composite.comp's constants).
+    std::map<uint32_t, gpu::Pipeline> composites;
     const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
@@ -88,11 +89,11 @@ struct Reflections::Impl {
         bool tiled = false;     // on the reflective tiles only (after reflections.composite_copy)
         bool half = false;      // tiles of the half-size trace: 16x16 full pixels each
     };
-    const gpu::Pipeline& composite(const CompositeVariant& v);
-    // reflections.reproject per tile mode (the whole screen, the reflective tiles, the rest) and
-    // tile scale (half resolution's tiles cover 16x16 full pixels).
-    std::array<std::optional<gpu::Pipeline>, 6> reprojects;
-    const gpu::Pipeline& reproject(uint32_t tileMode, bool half);
+    const gpu::Pipeline& composite(const CompositeVariant& v, uint32_t list);
+    // reflections.reproject per tile mode (the whole screen, the reflective tiles, the rest), tile
+    // scale (half resolution's tiles cover 16x16 full pixels) and list.
+    std::map<uint32_t, gpu::Pipeline> reprojects;
+    const gpu::Pipeline& reproject(uint32_t tileMode, bool half, uint32_t list);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
     gpu::Buffer uniforms;
@@ -153,11 +154,6 @@ struct Reflections::Impl {
     };
     void dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
                        std::initializer_list<TileRun> runs, VkExtent2D extent) const;
-    // A full-resolution pass on the trace's tiles (tiles.glsl, footprintPixel): each run's
-    // pipeline by indirect dispatch from its list, the list's index as the push constant; with
-    // `tiled` false, the first run's pipeline over `extent` in 8x8 workgroups.
-    void dispatchFootprints(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
-                            std::initializer_list<TileRun> runs, VkExtent2D extent) const;
     // reflections.cmo_trace: what screen space leaves, through the CMOs (out.cmo, out.cmoInfo).
     void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                      ReflectionOutputs& out);

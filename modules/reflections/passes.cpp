@@ -145,11 +145,11 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
                 .buffer("tiles", pc.buffer(d.tiles));
             using namespace shader;
             const uint32_t work = tiled ? kTileModeWork : kTileModeScreen;
-            dispatchFootprints(pc, w, d.tiles, tiled,
-                               {{&reproject(work, half), kListResolveRay},
-                                {&reproject(kTileModeWork, half), kListLookup},
-                                {&reproject(kTileModeFill, half), kListResolveFill}},
-                               pc.extent(d.dst, 0));
+            dispatchTiles(pc, w, d.tiles, tiled,
+                          {{&reproject(work, half, kListResolveRay), kListResolveRay},
+                           {&reproject(kTileModeWork, half, kListLookup), kListLookup},
+                           {&reproject(kTileModeFill, half, kListResolveFill), kListResolveFill}},
+                          pc.extent(d.dst, 0));
         });
     TextureHandle pyramid = r.dst;
     // Each level also carries the visibility pyramid's level in alpha (level 0: 1, as reproject
@@ -485,9 +485,11 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                 .buffer("tiles", pc.buffer(data.tiles));
             // With tiles, the tiles that reflect: those with a screen-space ray and those with
             // lookups only.
-            const gpu::Pipeline& p = composite(variant);
-            dispatchFootprints(pc, w, data.tiles, variant.tiled,
-                               {{&p, shader::kListResolveRay}, {&p, shader::kListLookup}}, pc.extent(data.dst));
+            using namespace shader;
+            dispatchTiles(pc, w, data.tiles, variant.tiled,
+                          {{&composite(variant, kListResolveRay), kListResolveRay},
+                           {&composite(variant, kListLookup), kListLookup}},
+                          pc.extent(data.dst));
         });
     return {d.dst, separate ? d.plain : d.dst};
 }

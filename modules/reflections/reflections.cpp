@@ -305,39 +305,31 @@ void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWrit
     }
 }
 
-const gpu::Pipeline& Reflections::Impl::reproject(uint32_t tileMode, bool half) {
-    std::optional<gpu::Pipeline>& p = reprojects.at(size_t(tileMode) * 2 + (half ? 1 : 0));
-    if (!p)
-        p = gpu::createComputePipeline(ctx, "reflections/reproject.comp", sizeof(uint32_t), "reflections.reproject",
-                                       withTileMode({0u, 0u, half ? 2u : 1u}, tileMode));
-    return *p;
+const gpu::Pipeline& Reflections::Impl::reproject(uint32_t tileMode, bool half, uint32_t list) {
+    const uint32_t key = (tileMode * 2 + (half ? 1 : 0)) * shader::kTileLists + list;
+    auto it = reprojects.find(key);
+    if (it == reprojects.end())
+        it = reprojects
+                 .emplace(key, gpu::createComputePipeline(ctx, "reflections/reproject.comp", 0, "reflections.reproject",
+                                                          withTileMode({0u, 0u, half ? 2u : 1u, list}, tileMode)))
+                 .first;
+    return it->second;
 }
 
-void Reflections::Impl::dispatchFootprints(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles,
-                                           bool tiled, std::initializer_list<TileRun> runs, VkExtent2D extent) const {
-    for (const TileRun& run : runs) {
-        gpu::DescriptorWriter copy = w;  // push() clears its writer
-        run.pipeline->bind(pc.cmd());
-        copy.push(ctx, pc.cmd(), *run.pipeline);
-        vkCmdPushConstants(pc.cmd(), run.pipeline->layout(), kCompute, 0, sizeof(run.list), &run.list);
-        if (!tiled) {
-            vkCmdDispatch(pc.cmd(), (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
-            return;
-        }
-        vkCmdDispatchIndirect(pc.cmd(), pc.buffer(tiles), VkDeviceSize(run.list) * sizeof(glm::uvec4));
-    }
-}
-
-const gpu::Pipeline& Reflections::Impl::composite(const CompositeVariant& v) {
-    std::optional<gpu::Pipeline>& p =
-        composites.at(size_t(v.view) * 8 + (v.temporal ? 4 : 0) + (v.tiled ? 2 : 0) + (v.half ? 1 : 0));
-    if (!p) {
+const gpu::Pipeline& Reflections::Impl::composite(const CompositeVariant& v, uint32_t list) {
+    const uint32_t key =
+        ((uint32_t(v.view) * 8 + (v.temporal ? 4 : 0) + (v.tiled ? 2 : 0) + (v.half ? 1 : 0)) * shader::kTileLists) + list;
+    auto it = composites.find(key);
+    if (it == composites.end()) {
         using namespace shader;
-        std::vector<uint32_t> constants{uint32_t(v.view), v.temporal ? 1u : 0u, v.half ? 2u : 1u};
-        p = gpu::createComputePipeline(ctx, "reflections/composite.comp", sizeof(uint32_t), "reflections.composite",
-                                       withTileMode(std::move(constants), v.tiled ? kTileModeWork : kTileModeScreen));
+        std::vector<uint32_t> constants{uint32_t(v.view), v.temporal ? 1u : 0u, v.half ? 2u : 1u, list};
+        it = composites
+                 .emplace(key, gpu::createComputePipeline(
+                                   ctx, "reflections/composite.comp", 0, "reflections.composite",
+                                   withTileMode(std::move(constants), v.tiled ? kTileModeWork : kTileModeScreen)))
+                 .first;
     }
-    return *p;
+    return it->second;
 }
 
 ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInputs& given,

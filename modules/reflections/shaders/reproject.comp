@@ -26,9 +26,9 @@ layout(set = 0, binding = 8) uniform sampler2D emissiveTex;   // a: flags | mate
 layout(set = 0, binding = 6, rgba16f) uniform writeonly image2D dst;
 // Full-resolution pixels per trace pixel along an axis (2 at half resolution): a tile's footprint.
 layout(constant_id = 2) const uint kTileScale = 1u;
-layout(push_constant) uniform ReprojectConstants {
-    uint list;  // the list this dispatch takes its tiles from (tile modes work and fill)
-} rc;
+// The list this pipeline takes its tiles from (tile modes work and fill; composite.comp says
+// why a specialization constant).
+layout(constant_id = 3) const uint kList = 0u;
 
 void reprojectPixel(ivec2 pixel) {
     vec3 current = texelFetch(litTex, pixel, 0).rgb;
@@ -64,7 +64,7 @@ void main() {
         return;
     }
     for (uint i = 0u; i < kTileScale * kTileScale; ++i) {
-        ivec2 pixel = footprintPixel(rc.list, kTileScale, i);
+        ivec2 pixel = footprintPixel(kList, kTileScale, i);
         if (all(lessThan(pixel, size))) reprojectPixel(pixel);
     }
 }
