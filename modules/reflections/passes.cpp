@@ -23,6 +23,32 @@ std::string levelName(const char* pass, uint32_t level) {
 
 }  // namespace
 
+std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const std::string& pass, TextureHandle lit,
+                                                         const std::vector<std::pair<std::string, TextureDesc>>& targets) {
+    struct Data {
+        TextureHandle lit;
+        std::vector<TextureHandle> dst;
+    };
+    const auto& d = g.addPass<Data>(
+        pass, PassType::Transfer,
+        [&](PassBuilder& b, Data& data) {
+            data.lit = b.read(lit, TextureUsage::TransferSrc);
+            for (const auto& [name, desc] : targets)
+                data.dst.push_back(b.write(b.create(name, desc), TextureUsage::TransferDst, mipLevel(0)));
+        },
+        [](const Data& data, PassContext& pc) {
+            VkExtent2D e = pc.extent(data.lit);
+            VkImageCopy copy{};
+            copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            copy.dstSubresource = copy.srcSubresource;
+            copy.extent = {e.width, e.height, 1};
+            for (TextureHandle dst : data.dst)
+                vkCmdCopyImage(pc.cmd(), pc.image(data.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
+                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+        });
+    return d.dst;
+}
+
 TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels, TextureHandle& visibility) {
     // Levels 0 and 1 and visibility level 1 in one pass (hiz_first.comp); a 1x1 view has level 0 only.
     struct FirstData {
@@ -118,6 +144,12 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     };
     historyColor = g.importHistory("reflections.history.color", history.color.history());
     historyDepth = g.importHistory("reflections.history.depth", history.depth.history());
+    // With tiles, level 0 starts as the lit image (what every pixel that does not reflect gets),
+    // copied whole, and the reprojection overwrites the reflective tiles.
+    const TextureDesc pyramidDesc{.format = kColorFormat, .mips = levels};
+    TextureHandle copied =
+        s.tiles ? addLitCopy(g, "reflections.reproject_copy", in.lit, {{"reflections.color", pyramidDesc}})[0]
+                : TextureHandle{};
     const auto& r = g.addPass<ReprojectData>(
         "reflections.reproject", PassType::Compute,
         [&](PassBuilder& b, ReprojectData& d) {
@@ -129,8 +161,8 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
             d.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
             if (s.tiles) b.read(tiles.tiles, BufferUsage::Indirect);
-            TextureHandle pyramid = b.create("reflections.color", TextureDesc{.format = kColorFormat, .mips = levels});
-            d.dst = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
+            d.dst = b.write(copied.valid() ? copied : b.create("reflections.color", pyramidDesc),
+                            TextureUsage::StorageWrite, mipLevel(0));
         },
         [this, tiled = s.tiles, half = tiles.guide.valid()](const ReprojectData& d, PassContext& pc) {
             gpu::DescriptorWriter w = writer();
@@ -147,8 +179,7 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
             const uint32_t work = tiled ? kTileModeWork : kTileModeScreen;
             dispatchTiles(pc, w, d.tiles, tiled,
                           {{&reproject(work, half, kListResolveRay), kListResolveRay},
-                           {&reproject(kTileModeWork, half, kListLookup), kListLookup},
-                           {&reproject(kTileModeFill, half, kListResolveFill), kListResolveFill}},
+                           {&reproject(kTileModeWork, half, kListLookup), kListLookup}},
                           pc.extent(d.dst, 0));
         });
     TextureHandle pyramid = r.dst;
@@ -410,29 +441,11 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
     const TextureDesc litDesc{.format = render::kLinearFormat};
     TextureHandle copiedDst, copiedPlain;
     if (variant.tiled) {
-        struct CopyData {
-            TextureHandle lit, dst, plain;
-        };
-        const auto& c = g.addPass<CopyData>(
-            "reflections.composite_copy", PassType::Transfer,
-            [&](PassBuilder& b, CopyData& d) {
-                d.lit = b.read(in.lit, TextureUsage::TransferSrc);
-                d.dst = b.write(b.create("reflections.lit", litDesc), TextureUsage::TransferDst);
-                if (separate) d.plain = b.write(b.create("reflections.lit_plain", litDesc), TextureUsage::TransferDst);
-            },
-            [](const CopyData& d, PassContext& pc) {
-                VkExtent2D e = pc.extent(d.lit);
-                VkImageCopy copy{};
-                copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                copy.dstSubresource = copy.srcSubresource;
-                copy.extent = {e.width, e.height, 1};
-                for (TextureHandle dst : {d.dst, d.plain})
-                    if (dst.valid())
-                        vkCmdCopyImage(pc.cmd(), pc.image(d.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
-                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-            });
-        copiedDst = c.dst;
-        copiedPlain = c.plain;
+        std::vector<std::pair<std::string, TextureDesc>> targets{{"reflections.lit", litDesc}};
+        if (separate) targets.emplace_back("reflections.lit_plain", litDesc);
+        std::vector<TextureHandle> copied = addLitCopy(g, "reflections.composite_copy", in.lit, targets);
+        copiedDst = copied[0];
+        if (separate) copiedPlain = copied[1];
     }
     struct Data {
         TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, debug, dst, plain;

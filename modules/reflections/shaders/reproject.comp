@@ -8,9 +8,10 @@
 // A pixel that does not reflect takes this frame's lit image: what the previous image adds to
 // the lit one is a reflection, and this surface has none (the history there is the previous lit
 // image, reprojected and filtered: on a still camera within a half-float step of it, with motion
-// a staler one). Work follows need (issue 23): with reflections.tiles, the tiles with no
-// reflective pixel (the resolve's fill list) are then this frame's lit image as it is
-// (kTileModeFill, no history read), the same bits as the whole shader gives them.
+// a staler one). Work follows need (issue 23): with reflections.tiles, level 0 starts as a copy
+// of the lit image (reflections.reproject_copy, the same bits this shader gives a pixel that
+// does not reflect: the lit image is finite and non-negative, alpha 1) and this shader runs on
+// the reflective tiles' footprints only (the resolve's ray and lookup lists).
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
 #include "reflections/shaders/tiles.glsl"
@@ -26,16 +27,15 @@ layout(set = 0, binding = 8) uniform sampler2D emissiveTex;   // a: flags | mate
 layout(set = 0, binding = 6, rgba16f) uniform writeonly image2D dst;
 // Full-resolution pixels per trace pixel along an axis (2 at half resolution): a tile's footprint.
 layout(constant_id = 2) const uint kTileScale = 1u;
-// The list this pipeline takes its tiles from (tile modes work and fill; composite.comp says
-// why a specialization constant).
+// The list this pipeline takes its tiles from (tile mode work; composite.comp says why a
+// specialization constant).
 layout(constant_id = 3) const uint kList = 0u;
 
 void reprojectPixel(ivec2 pixel) {
     vec3 current = texelFetch(litTex, pixel, 0).rgb;
     vec3 color = current;
     float depth = texelFetch(depthTex, pixel, 0).r;
-    bool reflective =
-        kTileMode != kTileModeFill && depth > 0.0 && pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, 0.0).reflective;
+    bool reflective = depth > 0.0 && pixelMaterial(texelFetch(emissiveTex, pixel, 0).a, 0.0).reflective;
     if (reflective && rf.historyValid != 0u && rf.multiBounce != 0u) {
         vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
         // Motion vectors carry object motion too; the expected previous depth is the camera's
