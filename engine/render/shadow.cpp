@@ -5,9 +5,10 @@
 // GREATER_OR_EQUAL), D32. Bias: a slope-scaled raster bias away from the light plus a
 // normal offset and constant bias at lookup time (shadow_mask.frag).
 //
-// The mask pass resolves the map into one byte of filtered visibility per pixel right after
-// the depth prepass, so the map (16 MiB at 2048^2) is dead before the G-buffer targets exist
-// and can share their memory, and lighting reads one texel instead of filtering.
+// The map is fitted to the scene's bounds, not to the view: it is drawn once into an image kept
+// across frames (renderer_impl.hpp, shadowMap) and drawn again only when a caster hides or its
+// size changes. The mask pass resolves it into one byte of filtered visibility per pixel right
+// after the depth prepass, and lighting reads one texel instead of filtering.
 #include "renderer_impl.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
