@@ -6,8 +6,8 @@
 #include "speculum/reflections/upsample.hpp"
 
 #include <array>
-#include <map>
 #include <initializer_list>
+#include <map>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -90,8 +90,9 @@ struct Reflections::Impl {
         bool half = false;      // tiles of the half-size trace: 16x16 full pixels each
     };
     const gpu::Pipeline& composite(const CompositeVariant& v, uint32_t list);
-    // reflections.reproject per tile mode (the whole screen, the reflective tiles, the rest), tile
-    // scale (half resolution's tiles cover 16x16 full pixels) and list.
+    // reflections.reproject per tile mode (the whole screen, or the reflective tiles after
+    // reflections.reproject_copy), tile scale (half resolution's tiles cover 16x16 full pixels)
+    // and list.
     std::map<uint32_t, gpu::Pipeline> reprojects;
     const gpu::Pipeline& reproject(uint32_t tileMode, bool half, uint32_t list);
     gpu::Unique<VkSampler> nearest;
