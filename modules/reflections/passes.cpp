@@ -21,6 +21,17 @@ std::string levelName(const char* pass, uint32_t level) {
     return std::string("reflections.") + pass + "." + std::to_string(level);
 }
 
+// Mip 0 of `src` copied whole into mip 0 of `dst` (transfer layouts, as the graph put them).
+void copyLevel0(PassContext& pc, TextureHandle src, TextureHandle dst, VkImageAspectFlags aspect) {
+    VkExtent2D e = pc.extent(src);
+    VkImageCopy copy{};
+    copy.srcSubresource = {aspect, 0, 0, 1};
+    copy.dstSubresource = copy.srcSubresource;
+    copy.extent = {e.width, e.height, 1};
+    vkCmdCopyImage(pc.cmd(), pc.image(src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+}
+
 }  // namespace
 
 std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const std::string& pass, TextureHandle lit,
@@ -37,14 +48,7 @@ std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const st
                 data.dst.push_back(b.write(b.create(name, desc), TextureUsage::TransferDst, mipLevel(0)));
         },
         [](const Data& data, PassContext& pc) {
-            VkExtent2D e = pc.extent(data.lit);
-            VkImageCopy copy{};
-            copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            copy.dstSubresource = copy.srcSubresource;
-            copy.extent = {e.width, e.height, 1};
-            for (TextureHandle dst : data.dst)
-                vkCmdCopyImage(pc.cmd(), pc.image(data.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
-                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+            for (TextureHandle dst : data.dst) copyLevel0(pc, data.lit, dst, VK_IMAGE_ASPECT_COLOR_BIT);
         });
     return d.dst;
 }
@@ -603,16 +607,8 @@ void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHand
             data.historyDepth = b.write(historyDepth.current, TextureUsage::TransferDst);
         },
         [](const Data& data, PassContext& pc) {
-            VkExtent2D e = pc.extent(data.lit);
-            VkImageCopy copy{};
-            copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            copy.dstSubresource = copy.srcSubresource;
-            copy.extent = {e.width, e.height, 1};
-            vkCmdCopyImage(pc.cmd(), pc.image(data.lit), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(data.color),
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-            copy.srcSubresource.aspectMask = copy.dstSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
-            vkCmdCopyImage(pc.cmd(), pc.image(data.depth), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           pc.image(data.historyDepth), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+            copyLevel0(pc, data.lit, data.color, VK_IMAGE_ASPECT_COLOR_BIT);
+            copyLevel0(pc, data.depth, data.historyDepth, VK_IMAGE_ASPECT_DEPTH_BIT);
         });
     g.markOutput(d.color);
     g.markOutput(d.historyDepth);
