@@ -85,7 +85,8 @@ const Settings& Viewport::interactiveSettings() {
         interactiveOverlay_ = nlohmann::json::object();
         if (low.is_object())
             for (const auto& [key, value] : low.items())
-                if (key.rfind("reflections.", 0) == 0) interactiveOverlay_[key] = value;
+                // Per-frame settings only: the probes' bake settings would bake again.
+                if (key.rfind("reflections.", 0) == 0 || key == "probes.planar_interval") interactiveOverlay_[key] = value;
     }
     interactive_ = doc_.settings();
     interactive_->fromJson(interactiveOverlay_, "assets/settings/low.json");

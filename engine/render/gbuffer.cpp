@@ -8,6 +8,7 @@
 //
 // Alpha modes (MASK, BLEND) are ignored: every surface is opaque. Only TEXCOORD_0 is used.
 #include "renderer_impl.hpp"
+#include "speculum/render/frustum.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -170,8 +171,9 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
     beginRendering(cmd, extent, {}, depth);
     bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
+    const Frustum view = frustumOf(frame.camera.viewProj);
     for (const DrawItem& d : gpuScene.draws) {
-        if (!d.drawnIn(frame.primaryView)) continue;
+        if (!d.drawnIn(frame.primaryView) || outside(view, d.worldMin, d.worldMax)) continue;
         const gpu::Pipeline* p = &pipelineFor(prepassPipelines, d, gpuScene.materials[d.material], frame.mirrored);
         if (p != bound) {
             p->bind(cmd);
@@ -184,16 +186,18 @@ void Renderer::Impl::recordDepthPrepass(VkCommandBuffer cmd, const FrameInputs& 
     vkCmdEndRendering(cmd);
 }
 
-void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
-                                   VkImageView depth, bool primaryView, bool mirroredView) const {
+void Renderer::Impl::recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+                                   const std::vector<VkImageView>& colors, VkImageView depth) const {
     beginRendering(cmd, extent, colors, depth, true);
     bindSceneGeometry(cmd, gpuScene);
     const gpu::Pipeline* bound = nullptr;
     uint32_t boundMaterial = ~0u;
+    // The prepass's culling exactly, so that every depth it wrote is shaded here.
+    const Frustum view = frustumOf(frame.camera.viewProj);
     for (const DrawItem& d : gpuScene.draws) {
-        if (!d.drawnIn(primaryView)) continue;
+        if (!d.drawnIn(frame.primaryView) || outside(view, d.worldMin, d.worldMax)) continue;
         const GpuMaterial& m = gpuScene.materials[d.material];
-        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m, mirroredView);
+        const gpu::Pipeline* p = &pipelineFor(gbufferPipelines[m.untextured ? 1 : 0], d, m, frame.mirrored);
         if (p != bound) {
             p->bind(cmd);
             bound = p;
@@ -256,10 +260,10 @@ GBuffer Renderer::addGBufferPasses(FrameGraph& graph, const FrameInputs& frame) 
             d.g.motion = target("render.motion", kMotionFormat);
             d.g.depth = b.read(depth, TextureUsage::DepthRead);
         },
-        [impl, primary = frame.primaryView, mirrored = frame.mirrored](const GBufferData& d, PassContext& ctx) {
+        [impl, frame](const GBufferData& d, PassContext& ctx) {
             std::vector<VkImageView> colors = {ctx.view(d.g.albedo), ctx.view(d.g.normal),
                                                ctx.view(d.g.emissive), ctx.view(d.g.motion)};
-            impl->recordGBuffer(ctx.cmd(), ctx.extent(d.g.depth), colors, ctx.view(d.g.depth), primary, mirrored);
+            impl->recordGBuffer(ctx.cmd(), frame, ctx.extent(d.g.depth), colors, ctx.view(d.g.depth));
         });
     GBuffer result = g.g;
     result.shadowMask = mask;

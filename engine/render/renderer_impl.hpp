@@ -19,6 +19,7 @@ struct DrawItem {
     int node = -1;
     bool hiddenPrimary = false;  // Node::hiddenPrimary: not drawn into FrameInputs::primaryView
     bool hidden = false;         // Renderer::setNodeVisible(false): not drawn at all
+    glm::vec3 worldMin{0.0f}, worldMax{0.0f};  // the primitive's bounds under `model` (frustum.hpp)
     bool drawnIn(bool primaryView) const { return !hidden && !(primaryView && hiddenPrimary); }
 };
 
@@ -115,8 +116,8 @@ struct Renderer::Impl {
     void recordShadow(VkCommandBuffer cmd, VkImageView map, uint32_t size) const;
     void recordShadowMask(PassContext& pass, const FrameInputs& frame, TextureHandle depth,
                           TextureHandle map, TextureHandle out) const;
-    void recordGBuffer(VkCommandBuffer cmd, VkExtent2D extent, const std::vector<VkImageView>& colors,
-                       VkImageView depth, bool primaryView, bool mirroredView) const;
+    void recordGBuffer(VkCommandBuffer cmd, const FrameInputs& frame, VkExtent2D extent,
+                       const std::vector<VkImageView>& colors, VkImageView depth) const;
     void recordLighting(PassContext& pass, const FrameInputs& frame, const GBuffer& g,
                         TextureHandle out, const LightingOptions& lighting) const;
     void recordTonemap(PassContext& pass, TextureHandle linear, TextureHandle out) const;

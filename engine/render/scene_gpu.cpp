@@ -1,6 +1,7 @@
 // Scene upload: one vertex and one index buffer for every primitive, one GPU texture per image
 // and colour space, 1x1 defaults, and the flattened draw list.
 #include "renderer_impl.hpp"
+#include "speculum/render/frustum.hpp"
 
 #include "speculum/core.hpp"
 
@@ -190,9 +191,10 @@ SceneGpu uploadScene(const gpu::Context& ctx, const Scene& scene) {
             int mat = prims[p].material;
             uint32_t material =
                 mat >= 0 && size_t(mat) < scene.materials.size() ? uint32_t(mat) : defaultMaterial;
-            gpuScene.draws.push_back(
-                {r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored, inst.node,
-                 inst.node >= 0 && scene.nodes[size_t(inst.node)].hiddenPrimary});
+            DrawItem& d = gpuScene.draws.emplace_back(
+                DrawItem{r.firstIndex, r.indexCount, r.vertexOffset, material, inst.world, mirrored, inst.node,
+                         inst.node >= 0 && scene.nodes[size_t(inst.node)].hiddenPrimary});
+            transformBox(inst.world, prims[p].boundsMin, prims[p].boundsMax, d.worldMin, d.worldMax);
         }
     }
     gpuScene.materialSampler =

@@ -36,7 +36,8 @@ app::LitHook Chain::litHook(const Settings& settings, const render::FrameInputs&
         return hook;
     }
     // Planar probes are view-dependent: rendered for this frame's camera before its graph runs.
-    if (s.probes) probes_.renderPlanar(frame);
+    if (s.probes)
+        probes_.renderPlanar(frame, settings.find("probes.planar_interval") ? settings.getInt("probes.planar_interval") : 1);
     hook.addPasses = [this, s, frame, probeView](FrameGraph& graph, const render::GBuffer& gbuffer, TextureHandle lit,
                                                  app::ModuleAovs& aovs) {
         const auto& asked = aovs.requested;

@@ -87,6 +87,8 @@ struct Probes::Impl {
         gpu::Pipeline store;
         uint32_t width = 0, height = 0;  // the view the images were made for
         uint32_t rendered = 0;           // records written by the last renderPlanar
+        int sinceRender = 0;             // renderPlanar calls that reused the images (interval)
+        bool valid = false;              // the images and records are of this size's last render
         double ms = 0.0;
     };
     PlanarState planar;

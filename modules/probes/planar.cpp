@@ -213,14 +213,17 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
     s.ms += runCapture(fg);
 }
 
-void Probes::renderPlanar(const render::FrameInputs& view) {
+void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
     Impl& m = *impl_;
     Impl::PlanarState& s = m.planar;
-    s.rendered = 0;
     s.ms = 0.0;
     if (s.list.empty()) return;
     const render::CameraState& cam = view.camera;
-    if (cam.width != s.width || cam.height != s.height) m.allocatePlanar(cam.width, cam.height);
+    if (cam.width != s.width || cam.height != s.height) m.allocatePlanar(cam.width, cam.height), s.valid = false;
+    if (s.valid && ++s.sinceRender < interval) return;
+    s.sinceRender = 0;
+    s.valid = true;
+    s.rendered = 0;
     const gpu::ImageDesc& d = s.images.desc();
     auto* out = static_cast<shader::PlanarProbe*>(s.records.mapped());
     for (size_t i = 0; i < s.list.size(); ++i) {

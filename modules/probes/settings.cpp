@@ -17,6 +17,11 @@ const SettingFields<ProbeSettings>& ProbeSettings::fields() {
          "Prefilter work a time-sliced probe does per update after its six faces (1024 GGX "
          "samples of one texel = 1): 512 is about one 256^2 face's capture on lavapipe, so the "
          "prefilter is spread over the next ~17 updates instead of one 0.2-0.9 s hitch."}),
+        bind<&P::planarInterval>({"probes.planar_interval", T::Int, "frames", 1, 8, 1, {},
+         "Render the planar probes every this many frames; the frames between reuse the last "
+         "images (the reflection lags the camera by up to this less one frame). low.json has 2: "
+         "the editor's interactive frames at 330x256 spend 12 of about 75 ms on lavapipe "
+         "rendering gallery's floor probe."}),
         bind<&P::debugView>({"probes.debug_view", T::Enum, "", 0, 2, 0, {"none", "influence", "winner"},
          "Replace the image with the probes' blend (each probe's colour times its share, the sky "
          "dark blue) or the probe with the largest share."}),

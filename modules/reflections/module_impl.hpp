@@ -135,6 +135,8 @@ struct Reflections::Impl {
     struct Classified;
     TextureHandle addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                   uint32_t levels, const Classified& tiles, const ReflectionSettings& s);
+    TextureHandle addReproject(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                               const ReflectionSettings& s, TextureHandle copied, const TextureDesc& pyramidDesc);
     // reflections.classify (and reflections.tile_clear before it): the tile lists (tiles.h); at
     // half resolution also the guide (which full pixel each half pixel traces,
     // modules/reflections/shaders/guide.glsl).

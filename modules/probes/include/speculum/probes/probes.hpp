@@ -41,6 +41,7 @@ struct ProbeSettings {
     int bounces;           // bakes of every probe at start, each seeing the previous one
     int prefilterSamples;  // GGX samples per texel of the rough mips
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
+    int planarInterval;    // planar probes render every this many frames (renderPlanar)
     DebugView debugView;
 };
 
@@ -176,8 +177,11 @@ public:
     // frame graph of its own, submitted and finished before it returns (call it before the
     // frame's graph runs, each frame: a planar image is view-dependent). The renderer keeps one
     // frame-constant buffer and a graph has one size, so the mirrored views cannot share the
-    // frame's graph here; on a GPU they would, without the wait.
-    void renderPlanar(const render::FrameInputs& view);
+    // frame's graph here; on a GPU they would, without the wait. With `interval` above 1 (the
+    // setting probes.planar_interval) only every interval-th call renders; the others keep the
+    // last images and their mirrored cameras, so that the reflection lags the camera by up to
+    // interval - 1 frames (each pixel still projects into the camera its image was made with).
+    void renderPlanar(const render::FrameInputs& view, int interval = 1);
     // Imports the cube array and the records into `graph` (count 0 when `enabled` is false), and
     // the CMO arrays (count 0 when `cmos` is false), and the planar images of the last
     // renderPlanar (count 0 when `enabled` is false).
