@@ -86,7 +86,8 @@ const Settings& Viewport::interactiveSettings() {
         if (low.is_object())
             for (const auto& [key, value] : low.items())
                 // Per-frame settings only: the probes' bake settings would bake again.
-                if (key.rfind("reflections.", 0) == 0 || key == "probes.planar_interval") interactiveOverlay_[key] = value;
+                if (key.rfind("reflections.", 0) == 0 || key == "probes.planar_interval")
+                    interactiveOverlay_[key] = value;
     }
     interactive_ = doc_.settings();
     interactive_->fromJson(interactiveOverlay_, "assets/settings/low.json");

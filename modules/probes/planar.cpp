@@ -127,6 +127,7 @@ void Probes::Impl::allocatePlanar(uint32_t width, uint32_t height) {
     PlanarState& s = planar;
     s.width = width;
     s.height = height;
+    s.valid = false;  // new images: the next renderPlanar renders whatever its interval
     uint32_t h = 4;
     for (const PlanarInfo& p : s.list) h = std::max(h, planarHeight(p, height));
     const uint32_t limit = ctx.properties().limits.maxImageDimension2D;
@@ -219,7 +220,7 @@ void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
     s.ms = 0.0;
     if (s.list.empty()) return;
     const render::CameraState& cam = view.camera;
-    if (cam.width != s.width || cam.height != s.height) m.allocatePlanar(cam.width, cam.height), s.valid = false;
+    if (cam.width != s.width || cam.height != s.height) m.allocatePlanar(cam.width, cam.height);
     if (s.valid && ++s.sinceRender < interval) return;
     s.sinceRender = 0;
     s.valid = true;

@@ -1,9 +1,10 @@
 // View-frustum culling of world-space boxes against a camera's clip volume (render.depth_prepass
-// and render.gbuffer skip the draws a view cannot see). Why: lavapipe shades vertices on the CPU,
-// so a draw costs its vertices wherever it lands: at 330x256 the depth prepass and the G-buffer
-// of gallery.gltf (29k triangles) cost 2.9 + 6.9 ms, 1.9 + 3.0 ms of it at 96x54, and the
-// planar probe's mirrored view, which looks the other way, draws the whole scene again. A box
-// that is culled has no fragment in the view, so every image is unchanged.
+// and render.gbuffer skip the draws a view cannot see). A draw costs its vertices wherever it
+// lands, and a planar probe's mirrored view or a cube face sees a part of the scene only. A culled
+// box has no fragment in the view, so every image is unchanged. On gallery.gltf it culls 6 of 17
+// draws in the main view and 10 of 17 in the mirrored one, but the time did not move measurably
+// on lavapipe (prepass + G-buffer 9.8 ms at 330x256 either way: the visible meshes carry most
+// vertices, and the passes cost about 5 ms even at 96x54); it pays on scenes larger than a view.
 #pragma once
 
 #include <glm/glm.hpp>
