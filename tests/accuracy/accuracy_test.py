@@ -176,7 +176,10 @@ def main():
         margin = doc["margin"]
         table, gains = {}, {}
         rule = doc.get("probe_gain")
-        for key in doc["views"]:
+        # --view: one view alone (its reference was rendered again; the rest stay as measured)
+        for key in [args.view] if args.view else doc["views"]:
+            if key not in doc["views"]:
+                bench.fail(f"{args.thresholds}: no view '{key}'", 2)
             table[key] = {}
             for method in view_methods(doc, key):
                 s = measure(args, doc, view_of(key), method, out, cache)

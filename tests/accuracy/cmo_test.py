@@ -35,8 +35,7 @@ def band_scores(tools, test, ref_dir, exposure, rough, max_roughness):
     cmd = [tools.metrics, "compare", "--test", str(test), "--ref", str(ref_dir / "reflection.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(test), "--scale", str(exposure),
            "--band-image", str(rough), "--bands", f"0,{max_roughness:g}"]
-    if (ref_dir / "stderror.0000.exr").is_file():  # a converged reference: its unconverged pixels are not scored
-        cmd += ["--ref-error", str(ref_dir / "stderror.0000.exr")]
+    cmd += bench.store.ref_error_args(ref_dir)  # a converged reference: its unconverged pixels are not scored
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)

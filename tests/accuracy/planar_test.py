@@ -118,7 +118,7 @@ def underside_band(scene, cam, size, floor, out):
 def floor_psnr(tools, image, ref_dir, exposure, band):
     cmd = [tools.metrics, "compare", "--test", str(image), "--ref", str(ref_dir / "reflection.0000.exr"),
            "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(image), "--scale", str(exposure),
-           "--band-image", str(band), "--bands", f"{FLOOR_NY},2", "--ref-error", str(ref_dir / "stderror.0000.exr")]
+           "--band-image", str(band), "--bands", f"{FLOOR_NY},2", *bench.store.ref_error_args(ref_dir)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         bench.fail(f"speculum-metrics failed: {r.stderr.strip()}", 1)

@@ -197,7 +197,7 @@ def score(tools, test, ref_dir, aov, exposure, heatmap, size=None):
         cmd += ["--test-mask", str(test)]
     converged = (ref_dir / "stderror.0000.exr").is_file()
     if converged:
-        cmd += ["--ref-error", str(ref_dir / "stderror.0000.exr"),
+        cmd += [*store.ref_error_args(ref_dir),
                 "--band-image", str(ref_dir / "roughness.0000.exr"), "--bands", f"0,{ROUGH_BAND},1000"]
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
@@ -221,8 +221,7 @@ def flicker(tools, run_dir, ref_dir, aov, frames, exposure, size):
            "--frames", str(frames), "--ref-mask-aov", "reflective", "--scale", str(exposure)]
     if aov == "reflection":
         cmd += ["--test-mask-aov", "reflection"]
-    if (ref_dir / "stderror.0000.exr").is_file():
-        cmd += ["--ref-error-aov", "stderror"]
+    cmd += store.ref_error_args(ref_dir, aov=True)
     if reference_factor(ref_dir, size) > 1:
         cmd += ["--at-reference-pixels"]
     result = subprocess.run(cmd, capture_output=True, text=True)

@@ -33,6 +33,7 @@ struct Options {
     std::string aov = "linear,color,reflection,reflective";
     reference::Options render;  // the renderer's options as the flags give them (exposure from --set)
     uint32_t seeds = 1;
+    float maxReferenceError = metrics::kMaxReferenceError;  // the seed agreement's cut, written to reference.json
     std::vector<std::string> sets;
     bool settingsGiven = false;
 };
@@ -163,22 +164,22 @@ metrics::Image metricsImage(const reference::Frame& f, const std::vector<float>&
 
 // How far two seeds agree (docs: tests/reference/README.md, "converged references"): PSNR of one
 // against the other on the reflective pixels where both are converged (standard error at most
-// metrics::kMaxReferenceError), per band (mirror: roughness below reference::kRoughBand), and
+// --max-reference-error, metrics::kMaxReferenceError by default), per band (mirror: roughness below reference::kRoughBand), and
 // how many reflective pixels were left out as unconverged. The mean that is written is closer to
 // the truth than either seed: its own error is about 3 dB below this figure.
-nlohmann::json seedAgreement(const reference::Frame& a, const reference::Frame& b, float exposure) {
+nlohmann::json seedAgreement(const reference::Frame& a, const reference::Frame& b, float exposure, float maxError) {
     metrics::Image ia{a.width, a.height, a.reflection}, ib{b.width, b.height, b.reflection};
     metrics::Image reflective = metricsImage(a, a.reflective), rough = metricsImage(a, a.roughness);
     std::vector<uint8_t> mask = metrics::reflectiveMask(a.width, a.height, &reflective, nullptr);
     size_t unconverged = 0;
-    mask = metrics::convergedMask(mask, metricsImage(a, a.stderror), metrics::kMaxReferenceError, unconverged);
-    mask = metrics::convergedMask(mask, metricsImage(b, b.stderror), metrics::kMaxReferenceError, unconverged);
+    mask = metrics::convergedMask(mask, metricsImage(a, a.stderror), maxError, unconverged);
+    mask = metrics::convergedMask(mask, metricsImage(b, b.stderror), maxError, unconverged);
     auto band = [&](float lo, float hi) {
         metrics::Scores s = metrics::compare(ia, ib, metrics::bandMask(mask, rough, lo, hi), exposure);
         return nlohmann::json{{"pixels", s.pixels}, {"psnr_db", s.psnr ? nlohmann::json(*s.psnr) : nlohmann::json()}};
     };
     return {{"mirror", band(0.0f, reference::kRoughBand)}, {"rough", band(reference::kRoughBand, 1e9f)},
-            {"unconverged_pixels", unconverged}, {"max_reference_error", metrics::kMaxReferenceError}};
+            {"unconverged_pixels", unconverged}, {"max_reference_error", maxError}};
 }
 
 int run(const Options& o) {
@@ -193,6 +194,8 @@ int run(const Options& o) {
     if (!(r.targetError >= 0.0f && r.targetError < 1.0f)) throw argumentError("--target-error must be in [0, 1)");
     if (r.minBatches < 2 || r.minBatches > 4096) throw argumentError("--min-batches must be in 2..4096");
     if (o.seeds < 1 || o.seeds > 16) throw argumentError("--seeds must be in 1..16");
+    if (!(o.maxReferenceError > 0.0f && o.maxReferenceError <= 1.0f))
+        throw argumentError("--max-reference-error must be in (0, 1]");
     if (r.bounces < 1 || r.bounces > 64) throw argumentError("--bounces must be in 1..64");
     if (o.settingsGiven && o.settingsFile.empty()) throw argumentError("--settings needs a file name, got \"\"");
     auto [w, h] = parseSize(o.size);
@@ -233,7 +236,7 @@ int run(const Options& o) {
         double raysPerSecond = f.rays / std::max(f.seconds, 1e-9);
         nlohmann::json entry = {{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
                                 {"rays_per_second", raysPerSecond}, {"samples", sampleStats(f, r.targetError)}};
-        if (perSeed.size() >= 2) entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure());
+        if (perSeed.size() >= 2) entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure(), o.maxReferenceError);
         frames.push_back(entry);
         std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
                     raysPerSecond / 1e6);
@@ -243,6 +246,7 @@ int run(const Options& o) {
                              {"bounces", r.bounces},     {"seed", r.seed}, {"seeds", o.seeds},
                              {"target_error", r.targetError}, {"min_batches", r.minBatches},
                              {"max_spp", r.maxSpp}, {"rough_max_spp", r.roughMaxSpp},
+                             {"max_reference_error", o.maxReferenceError},
                              {"threads", r.threads},     {"exposure", renderer.exposure()},
                              {"setup_seconds", setupSeconds}, {"frames", frames}};
     app::writeText(fs::path(o.out) / "reference.json", report.dump(2));
@@ -264,6 +268,9 @@ int main(int argc, char** argv) {
                    "adaptive sampling: the cap for reflection roughness >= 0.3, the rough band (default 0: --max-spp)");
     cli.add_option("--seeds", o.seeds,
                    "render seeds --seed..--seed+N-1 and write their mean; with 2 or more, reference.json reports their agreement (default 1)");
+    cli.add_option("--max-reference-error", o.maxReferenceError,
+                   "the seed agreement leaves out pixels whose standard error is above this; scorers read it from "
+                   "reference.json (default 0.01)");
     cli.add_option("--min-batches", o.render.minBatches, "adaptive sampling: at least this many batches (default 4)");
     cli.add_option("--bounces", o.render.bounces, "reflective surfaces traced this deep (default 2)");
     cli.add_option("--seed", o.render.seed, "random seed (same seed, same image; default 1)");

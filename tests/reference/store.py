@@ -154,6 +154,28 @@ def lookup(scene, camera, size, bounces, path=None):
                   f"with {bounces} bounces: add it to {MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
 
 
+def max_reference_error(folder):
+    """The standard-error cut an entry's seed agreement was measured at (reference.json's
+    max_reference_error; None: speculum-metrics' default, 0.01). An entry may set a tighter one
+    in its manifest settings when its rough band needs it to agree at 40 dB."""
+    info = json.loads((folder / "reference.json").read_text())
+    if "max_reference_error" in info:
+        return info["max_reference_error"]
+    frames = info.get("frames") or [{}]
+    return frames[0].get("seed_agreement", {}).get("max_reference_error")
+
+
+def ref_error_args(folder, aov=False):
+    """speculum-metrics' flags that leave a converged entry's unconverged pixels unscored, at the
+    cut its seeds were compared at, so that a score and its reference_agreement_db count the
+    same pixels; [] for a folder without a stderror AOV. aov=True: the flicker's per-frame form."""
+    if not (folder / "stderror.0000.exr").is_file():
+        return []
+    cut = max_reference_error(folder)
+    flags = ["--ref-error-aov", "stderror"] if aov else ["--ref-error", str(folder / "stderror.0000.exr")]
+    return flags + (["--max-ref-error", f"{cut:.6g}"] if cut else [])
+
+
 def render(binary, e, settings, folder, scene=None):
     """Renders entry e (or the same view of `scene`) with the store's settings into folder."""
     s = settings
@@ -163,6 +185,8 @@ def render(binary, e, settings, folder, scene=None):
            "--min-batches", str(s["min_batches"]), "--max-spp", str(s["max_spp"]),
            "--rough-max-spp", str(s["rough_max_spp"]), "--seed", str(s["seed"]), "--seeds", str(s["seeds"]),
            "--aov", AOVS, "--out", str(folder)]
+    if "max_reference_error" in s:  # only where an entry sets it: the other entries' keys stay as they are
+        cmd += ["--max-reference-error", str(s["max_reference_error"])]
     # stderr passes through: the reference draws its progress bar there on a terminal.
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 

@@ -57,8 +57,7 @@ class Measurer:
                "--ref-mask", str(ref_dir / "reflective.0000.exr"), "--test-mask", str(image),
                "--scale", str(exposure), "--band-image", str(self.rough[v]),
                "--bands", f"0,{self.args.max_roughness:g}"]
-        if (ref_dir / "stderror.0000.exr").is_file():  # converged: its unconverged pixels are not scored
-            cmd += ["--ref-error", str(ref_dir / "stderror.0000.exr")]
+        cmd += self.bench.store.ref_error_args(ref_dir)  # converged: its unconverged pixels are not scored
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode != 0:
             raise RuntimeError(f"speculum-metrics failed: {r.stderr.strip()}")
