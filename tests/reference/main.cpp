@@ -164,9 +164,10 @@ metrics::Image metricsImage(const reference::Frame& f, const std::vector<float>&
 
 // How far two seeds agree (docs: tests/reference/README.md, "converged references"): PSNR of one
 // against the other on the reflective pixels where both are converged (standard error at most
-// --max-reference-error, metrics::kMaxReferenceError by default), per band (mirror: roughness below reference::kRoughBand), and
-// how many reflective pixels were left out as unconverged. The mean that is written is closer to
-// the truth than either seed: its own error is about 3 dB below this figure.
+// --max-reference-error, metrics::kMaxReferenceError by default), per band (mirror: roughness
+// below reference::kRoughBand), and how many reflective pixels were left out as unconverged. The
+// mean that is written is closer to the truth than either seed: its own error is about 3 dB below
+// this figure.
 nlohmann::json seedAgreement(const reference::Frame& a, const reference::Frame& b, float exposure, float maxError) {
     metrics::Image ia{a.width, a.height, a.reflection}, ib{b.width, b.height, b.reflection};
     metrics::Image reflective = metricsImage(a, a.reflective), rough = metricsImage(a, a.roughness);
@@ -236,7 +237,8 @@ int run(const Options& o) {
         double raysPerSecond = f.rays / std::max(f.seconds, 1e-9);
         nlohmann::json entry = {{"frame", frameIndex}, {"seconds", f.seconds}, {"rays", f.rays},
                                 {"rays_per_second", raysPerSecond}, {"samples", sampleStats(f, r.targetError)}};
-        if (perSeed.size() >= 2) entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure(), o.maxReferenceError);
+        if (perSeed.size() >= 2)
+            entry["seed_agreement"] = seedAgreement(perSeed[0], perSeed[1], renderer.exposure(), o.maxReferenceError);
         frames.push_back(entry);
         std::printf("reference frame %zu: %.2f s, %.2f Mrays, %.2f Mrays/s\n", frameIndex, f.seconds, f.rays / 1e6,
                     raysPerSecond / 1e6);
