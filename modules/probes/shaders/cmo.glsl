@@ -29,9 +29,15 @@ layout(set = 0, binding = CMO_ALBEDO_BINDING) uniform sampler2DArray cmoAlbedo; 
 // Vulkan's cube faces (+X, -X, +Y, -Y, +Z, -Z): major axis M, s axis S, t axis T; face
 // coordinate s = dot(u, S) / dot(u, M), likewise t, both in [-1, 1]; texel (x, y) of a layer
 // covers s in [2x / n - 1, 2(x + 1) / n - 1]. The capture writes faces this way (faceCamera).
-const vec3 kCmoM[6] = vec3[](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1));
-const vec3 kCmoS[6] = vec3[](vec3(0, 0, -1), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1, 0, 0), vec3(1, 0, 0), vec3(-1, 0, 0));
-const vec3 kCmoT[6] = vec3[](vec3(0, -1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1), vec3(0, -1, 0), vec3(0, -1, 0));
+// Selects, not tables: a table indexed by a per-lane face goes to memory on a SIMD CPU driver
+// (STYLE.md), and the walk reads the axes at every face it crosses.
+void cmoAxes(int f, out vec3 m, out vec3 s, out vec3 t) {
+    float sg = (f & 1) != 0 ? -1.0 : 1.0;
+    int axis = f >> 1;
+    m = vec3(axis == 0 ? sg : 0.0, axis == 1 ? sg : 0.0, axis == 2 ? sg : 0.0);
+    s = axis == 0 ? vec3(0.0, 0.0, -sg) : (axis == 1 ? vec3(1.0, 0.0, 0.0) : vec3(sg, 0.0, 0.0));
+    t = axis == 1 ? vec3(0.0, 0.0, sg) : vec3(0.0, -1.0, 0.0);
+}
 
 const int kCmoMiss = 0;        // the ray reached its end in front of everything the CMO saw
 const int kCmoHit = 1;
@@ -48,7 +54,9 @@ int cmoFace(vec3 d) {
 ivec3 cmoTexel(CmoRecord c, vec3 d) {
     int f = cmoFace(d);
     int n = int(c.center.w);
-    vec2 st = vec2(dot(d, kCmoS[f]), dot(d, kCmoT[f])) / dot(d, kCmoM[f]);
+    vec3 m, s, t;
+    cmoAxes(f, m, s, t);
+    vec2 st = vec2(dot(d, s), dot(d, t)) / dot(d, m);
     return ivec3(clamp(ivec2(floor((st * 0.5 + 0.5) * float(n))), ivec2(0), ivec2(n - 1)), f);
 }
 
@@ -59,7 +67,8 @@ float cmoDistanceAt(CmoRecord c, ivec3 texel) {
 // The parameter at which the ray leaves face f's frustum (it is inside at t): the first of the
 // four planes dot(q, M +- S) = 0, dot(q, M +- T) = 0 it crosses going out.
 float cmoFaceExit(vec3 o, vec3 r, int f) {
-    vec3 m = kCmoM[f], s = kCmoS[f], t = kCmoT[f];
+    vec3 m, s, t;
+    cmoAxes(f, m, s, t);
     vec4 a = vec4(dot(o, m - s), dot(o, m + s), dot(o, m - t), dot(o, m + t));
     vec4 b = vec4(dot(r, m - s), dot(r, m + s), dot(r, m - t), dot(r, m + t));
     vec4 e = mix(vec4(1e30), -a / min(b, vec4(-1e-20)), lessThan(b, vec4(0.0)));
@@ -105,7 +114,8 @@ float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
 float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness) {
     vec3 h = o + r * hi;
     int f = cmoFace(h);
-    vec3 fm = kCmoM[f], fs = kCmoS[f], ft = kCmoT[f];
+    vec3 fm, fs, ft;
+    cmoAxes(f, fm, fs, ft);
     if (length(h) <= cmoDistanceSmooth(c, f, fm, fs, ft, h)) return -1.0;
     for (int k = 0; k < 7; ++k) {
         float mid = 0.5 * (lo + hi);
@@ -167,7 +177,8 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float 
     for (int faces = 0; faces < 4 && t < tMax; ++faces) {
         vec3 q = o + r * t;
         int f = cmoFace(q);
-        vec3 M = kCmoM[f], S = kCmoS[f], T = kCmoT[f];
+        vec3 M, S, T;
+        cmoAxes(f, M, S, T);
         float oM = dot(o, M), oS = dot(o, S), oT = dot(o, T);
         float rM = dot(r, M), rS = dot(r, S), rT = dot(r, T);
         float tFace = min(cmoFaceExit(o, r, f), tMax);
