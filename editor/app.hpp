@@ -11,6 +11,7 @@
 #include "speculum/app/window.hpp"
 #include "speculum/gpu/resources.hpp"
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -117,9 +118,9 @@ private:
 
     Rect view_;                // the viewport's rectangle in the window
     float scale_ = 1.0f;       // internal resolution / viewport size
-    int interactiveStep_ = 3;  // index into the interactive scales (app.cpp)
+    int interactiveStep_ = 4;  // index into the interactive scales (app.cpp): half scale
     int sinceScaleChange_ = 0;
-    double interactiveEma_ = 0.0;  // seconds per interactive frame, smoothed
+    std::array<double, 5> recentFrames_{};  // seconds of the last interactive frames at this step
     bool interacting_ = false;     // camera or gizmo moved this frame
     std::chrono::steady_clock::time_point lastInteraction_{};
     int selectedNode_ = -1;
@@ -157,6 +158,8 @@ private:
     // --script measure: frames left, and the counters.
     int measureLeft_ = 0;
     bool measureInteract_ = false;
+    int measureTop_ = 6;
+    bool measurePinned_ = false;  // the measurement holds the interactive scale it was given
     int measureFrames_ = 0;
     std::vector<double> measureUi_, measureWall_;  // per frame: UI ms (GPU + CPU), wall ms
     std::chrono::steady_clock::time_point measureLast_{};
