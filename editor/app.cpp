@@ -646,8 +646,13 @@ void EditorApp::adaptInteractiveScale(double frameSeconds) {
     // The median of the last five frames at this step: one slow frame (the first interactive
     // frame compiles the low settings' pipelines, hundreds of ms; the planar probe renders every
     // other frame) is not the step's cost. A smoothed mean stepped down on such a frame.
-    recentFrames_[size_t(sinceScaleChange_) % recentFrames_.size()] = frameSeconds;
-    if (++sinceScaleChange_ < int(recentFrames_.size())) return;
+    // The first frames at a new size are left out: they recompile the graph, allocate its
+    // transients and (the first time) compile pipelines, which stepped the scale down from a
+    // size that then ran at 15 fps.
+    constexpr int kSettle = 3;
+    if (++sinceScaleChange_ <= kSettle) return;
+    recentFrames_[size_t(sinceScaleChange_ - kSettle - 1) % recentFrames_.size()] = frameSeconds;
+    if (sinceScaleChange_ - kSettle < int(recentFrames_.size())) return;
     std::array<double, 5> sorted = recentFrames_;
     std::nth_element(sorted.begin(), sorted.begin() + 2, sorted.end());
     double median = sorted[2];
@@ -755,6 +760,8 @@ int EditorApp::loop() {
             ui_->endFrame();
         }
         if (interacting_ && !(measurePinned_ && measureLeft_ > 0)) adaptInteractiveScale(std::chrono::duration<double>(Clock::now() - now).count());
+        else if (!interacting_)
+            sinceScaleChange_ = 0;  // the next interaction starts at a new size: it settles first
         if (script_.finished()) quit_ = true;
         if (Clock::now() - lastAutosave_ > kAutosaveEvery) {
             lastAutosave_ = Clock::now();
