@@ -143,8 +143,13 @@ struct Reflections::Impl {
     struct Classified {
         BufferHandle tiles;
         TextureHandle guide;  // half resolution only
+        // Half resolution with tiles (reflections.footprint_args): the dispatches of the lists
+        // kListResolveRay and kListLookup for the full-resolution passes on them (reproject,
+        // composite), with y = 4: one workgroup per 8x8 block of a tile's 16x16 footprint.
+        BufferHandle footprint;
     };
     Classified addClassify(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
+    BufferHandle addFootprintArgs(FrameGraph& g, BufferHandle classified);
     // reflections.trace: the hit image, at the trace's size (half-size at half resolution).
     // It appends its tiles to the CMO trace's lists (tiles.tiles is the new version).
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, Classified& tiles,
@@ -155,8 +160,9 @@ struct Reflections::Impl {
         const gpu::Pipeline* pipeline;
         uint32_t list;
     };
+    // `footprint`: Classified::footprint where valid (a full-resolution pass at half resolution).
     void dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
-                       std::initializer_list<TileRun> runs, VkExtent2D extent) const;
+                       std::initializer_list<TileRun> runs, VkExtent2D extent, BufferHandle footprint = {}) const;
     // reflections.cmo_trace: what screen space leaves, through the CMOs (out.cmo, out.cmoInfo).
     void addCmoTrace(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                      ReflectionOutputs& out);

@@ -159,6 +159,9 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
             d.historyColor = b.read(historyColor.previous, TextureUsage::Sampled);
             d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
             d.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            // Reproject keeps one workgroup looping over a footprint's four blocks: a workgroup a
+            // block (reflections.footprint_args) cost it 3 ms more at half (13.1 -> 16 ms on
+            // gallery.main, MEASUREMENTS.md 2026-12-04) where composite gained 1-1.7 ms.
             if (s.tiles) b.read(tiles.tiles, BufferUsage::Indirect);
             d.dst = b.write(copied.valid() ? copied : b.create("reflections.color", pyramidDesc),
                             TextureUsage::StorageWrite, mipLevel(0));
@@ -281,7 +284,38 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
                 .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
             dispatch(pc, classify(half ? Resolution::Half : Resolution::Full, budget), w, {traceW, traceH});
         });
-    return {d.tiles, half ? d.guide : TextureHandle{}};
+    if (!half || !s.tiles) return {d.tiles, half ? d.guide : TextureHandle{}};
+    return {d.tiles, d.guide, addFootprintArgs(g, d.tiles)};
+}
+
+// reflections.footprint_args: at half resolution a tile of the trace is a 16x16 footprint of the
+// full-resolution passes. One 8x8 workgroup looping over its four blocks cost 2.7 us a block
+// against 1.7 for a full-resolution tile's (reflections.composite 16.8 ms at half against 12.9 at
+// full on gallery.main, MEASUREMENTS.md issue 23): these dispatches give each block its own
+// workgroup (y = 4, gl_WorkGroupID.y the block). The lists' counts are copied from classify's
+// headers; y, z and the padding are written around them, so the two writes never overlap.
+BufferHandle Reflections::Impl::addFootprintArgs(FrameGraph& g, BufferHandle classified) {
+    struct Data {
+        BufferHandle tiles, args;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.footprint_args", PassType::Transfer,
+        [&](PassBuilder& b, Data& data) {
+            data.tiles = b.read(classified, BufferUsage::TransferSrc);
+            data.args = b.write(b.create("reflections.footprint", BufferDesc{2 * sizeof(glm::uvec4)}),
+                                BufferUsage::TransferDst);
+        },
+        [](const Data& data, PassContext& pc) {
+            const uint32_t rest[3] = {4u, 1u, 0u};  // y: the four 8x8 blocks of a footprint
+            const uint32_t lists[2] = {shader::kListResolveRay, shader::kListLookup};
+            for (uint32_t slot = 0; slot < 2; ++slot) {
+                const VkDeviceSize at = slot * sizeof(glm::uvec4);
+                vkCmdUpdateBuffer(pc.cmd(), pc.buffer(data.args), at + sizeof(uint32_t), sizeof rest, rest);
+                VkBufferCopy count{lists[slot] * sizeof(glm::uvec4), at, sizeof(uint32_t)};
+                vkCmdCopyBuffer(pc.cmd(), pc.buffer(data.tiles), pc.buffer(data.args), 1, &count);
+            }
+        });
+    return d.args;
 }
 
 TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hizPyramid,
@@ -465,14 +499,17 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
     }
     struct Data {
         TextureHandle lit, albedo, normal, emissive, reflection, raw, hiz, hit, debug, dst, plain;
-        BufferHandle tiles;
+        BufferHandle tiles, footprint;
     };
     const auto& d = g.addPass<Data>(
         "reflections.composite", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.lit = b.read(in.lit, TextureUsage::Sampled);
             data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);  // the tiles debug view, the tiled dispatch
-            if (variant.tiled) b.read(tiles.tiles, BufferUsage::Indirect);
+            if (variant.tiled && tiles.footprint.valid())
+                data.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
+            else if (variant.tiled)
+                b.read(tiles.tiles, BufferUsage::Indirect);
             data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
@@ -518,7 +555,7 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
             dispatchTiles(pc, w, data.tiles, variant.tiled,
                           {{&composite(variant, kListResolveRay), kListResolveRay},
                            {&composite(variant, kListLookup), kListLookup}},
-                          pc.extent(data.dst));
+                          pc.extent(data.dst), data.footprint);
         });
     return {d.dst, separate ? d.plain : d.dst};
 }

@@ -292,7 +292,8 @@ const gpu::Pipeline& Reflections::Impl::classify(Resolution resolution, RayBudge
 }
 
 void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWriter& w, BufferHandle tiles, bool tiled,
-                                      std::initializer_list<TileRun> runs, VkExtent2D extent) const {
+                                      std::initializer_list<TileRun> runs, VkExtent2D extent,
+                                      BufferHandle footprint) const {
     for (const TileRun& run : runs) {
         gpu::DescriptorWriter copy = w;  // push() clears its writer
         run.pipeline->bind(pc.cmd());
@@ -300,6 +301,12 @@ void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWrit
         if (!tiled) {
             vkCmdDispatch(pc.cmd(), (extent.width + 7) / 8, (extent.height + 7) / 8, 1);
             return;
+        }
+        if (footprint.valid()) {
+            // The footprint's dispatches: kListResolveRay's first, kListLookup's second.
+            const VkDeviceSize slot = run.list == shader::kListResolveRay ? 0 : 1;
+            vkCmdDispatchIndirect(pc.cmd(), pc.buffer(footprint), slot * sizeof(glm::uvec4));
+            continue;
         }
         vkCmdDispatchIndirect(pc.cmd(), pc.buffer(tiles), VkDeviceSize(run.list) * sizeof(glm::uvec4));
     }

@@ -5,8 +5,8 @@
 // the selected debug view instead.
 //
 // Work follows need (issue 23): with reflections.tiles and no debug view it runs only on the
-// tiles that reflect (the resolve's ray and lookup lists, tiles.h), each workgroup taking a
-// tile's full-resolution footprint (kTileScale x kTileScale blocks of 8x8 at half resolution),
+// tiles that reflect (the resolve's ray and lookup lists, tiles.h), each workgroup taking an 8x8
+// block of a tile's full-resolution footprint (kTileScale x kTileScale blocks at half resolution),
 // after reflections.composite_copy has copied the lit image into its outputs whole: every other
 // pixel's result is the lit image as it is (render.lighting writes alpha 1, as this pass does).
 // A tile is in those lists when any of its trace pixels reflects, and at half resolution a trace
@@ -137,8 +137,8 @@ void main() {
         if (all(lessThan(pixel, size))) compositePixel(pixel);
         return;
     }
-    for (uint i = 0u; i < kTileScale * kTileScale; ++i) {
-        ivec2 pixel = footprintPixel(kList, kTileScale, i);
-        if (all(lessThan(pixel, size))) compositePixel(pixel);
-    }
+    // A workgroup per 8x8 block of the tile's footprint (gl_WorkGroupID.y: the block; 0 at full
+    // resolution, 0-3 at half from reflections.footprint_args).
+    ivec2 pixel = footprintPixel(kList, kTileScale, gl_WorkGroupID.y);
+    if (all(lessThan(pixel, size))) compositePixel(pixel);
 }

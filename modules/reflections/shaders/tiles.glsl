@@ -25,8 +25,9 @@ ivec2 tilePixel(uint list) {
 }
 
 // The full-resolution passes on the trace's tiles (reflections.reproject, reflections.composite):
-// a tile's footprint is kTileSize * scale full pixels a side (scale 2 at half resolution), each
-// invocation taking scale x scale pixels of it, kTileSize apart; `i` counts them.
+// a tile's footprint is kTileSize * scale full pixels a side (scale 2 at half resolution), in
+// scale x scale blocks of kTileSize; `i` is the block (composite: a workgroup each, the
+// dispatch's y from reflections.footprint_args; reproject: one workgroup loops over them).
 ivec2 footprintPixel(uint list, uint scale, uint i) {
     uint e = tiles.entries[gl_WorkGroupID.x * kTileLists + list];
     return ivec2(e & 0xffffu, e >> 16) * int(kTileSize * scale) + ivec2(gl_LocalInvocationID.xy) +
