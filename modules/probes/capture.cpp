@@ -27,16 +27,18 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3
     return addCaptureView(fg, frame);
 }
 
-Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const render::FrameInputs& view) {
+Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const render::FrameInputs& view, bool deep) {
     CaptureFace c;
     c.frame = view;
     const uint32_t width = view.camera.width, height = view.camera.height;
     c.g = renderer.addGBufferPasses(fg, c.frame);
     // The capture composites the specular ambient of reflective pixels itself (capture_bounce).
     TextureHandle lit = renderer.addLightingPass(fg, c.frame, c.g, {.moduleSpecular = true});
-    TextureHandle array = fg.importTexture("probes.cubes", descOf(cubes),
-                                           {cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cubes.desc().usage});
+    const bool fromBelow = deep && below.get() != VK_NULL_HANDLE;
+    const gpu::Image& source = fromBelow ? below : cubes;
+    const VkImageLayout layout = fromBelow ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    TextureHandle array = fg.importTexture(fromBelow ? "probes.cubes_below" : "probes.cubes", descOf(source),
+                                           {source.get(), layout, layout, source.desc().usage});
     BufferHandle recs = fg.importBuffer("probes.records", {records.size()}, {records.get()});
     struct Bounce {
         render::GBuffer g;
@@ -145,6 +147,7 @@ void Probes::Impl::prefilter(size_t index, const std::vector<render::PrefilterSt
     ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (step + 1 < plan.size()) return;
     ready[index] = true;
+    keepBelow(index);
     writeRecords();
 }
 

@@ -31,6 +31,18 @@ struct Probes::Impl {
     uint32_t faceSize = 8;  // the array's mip 0 face size: the largest probe resolution
     uint32_t mips = 2;      // down to 4x4, as the sky's cube
     gpu::Image cubes;       // cube array, SHADER_READ_ONLY_OPTIMAL between uses
+    // The cube array one bounce short of `cubes` (GENERAL between uses), for captures whose
+    // surfaces are already one reflection deep: a planar probe's mirrored view. A surface in
+    // bake k reflects bake k - 1, so the main view's reflection of `cubes` (bake N, N =
+    // probes.bounces) stops N reflections deep, as the reference's --bounces N does; the planar
+    // image's own surfaces must then reflect bake N - 1 (gallery.main's mirror band +1.6 dB).
+    // A CMO's faces are one reflection deep too, but reflecting `below` there lost 0.07-0.11
+    // dB on cornell_mirrors' views (MEASUREMENTS.md, issue 24, 2026-12-04): they keep `cubes`. Made only with planar probes and N >= 2
+    // (with N = 1 both are bake 1); each probe's layers are copied from `cubes` whenever it
+    // finishes a bake, except in the last round of the first bake. Re-bakes after that (a moved
+    // probe, a taken gem) copy their new bake: one bounce deeper, but never stale.
+    gpu::Image below;
+    bool lastRound = false;  // update(): the first bake's last round, which `below` does not keep
     std::vector<gpu::Image> radiance;  // per probe: its resolution, full chain, GENERAL between uses
     std::vector<std::vector<gpu::Unique<VkImageView>>> targetViews;  // [probe][mip] cube views of the array
     gpu::Buffer records;
@@ -120,7 +132,12 @@ struct Probes::Impl {
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
     // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.
-    CaptureFace addCaptureView(FrameGraph& fg, const render::FrameInputs& frame);
+    // `deep`: its surfaces are one reflection deep, so they reflect `below` where there is one.
+    CaptureFace addCaptureView(FrameGraph& fg, const render::FrameInputs& frame, bool deep = false);
+    // With planar probes and probes.bounces >= 2, makes `below` (probes.cpp).
+    void allocateBelow();
+    // Copies probe `index`'s cube of `cubes` into `below`.
+    void keepBelow(size_t index);
     // Compiles and runs a capture graph; returns its GPU milliseconds.
     double runCapture(FrameGraph& fg);
 

@@ -153,7 +153,7 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
     const uint32_t w = view.camera.width, h = view.camera.height;
     const uint32_t layer = uint32_t(index);
     FrameGraph fg(FrameGraphConfig{w, h});
-    CaptureFace cap = addCaptureView(fg, view);
+    CaptureFace cap = addCaptureView(fg, view, true);
     TextureHandle images = fg.importTexture("probes.planar", descOf(s.images),
                                             {s.images.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                                              s.images.desc().usage});

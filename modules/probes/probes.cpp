@@ -78,6 +78,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
     allocate();
     createCmos();
     createPlanar();
+    allocateBelow();
 }
 
 void Probes::Impl::validate() const {
@@ -163,6 +164,44 @@ void Probes::Impl::allocate() {
     });
 }
 
+void Probes::Impl::allocateBelow() {
+    const gpu::ImageDesc& d = cubes.desc();
+    // Half the array budget: with `below` the probes take both (validate() checks one).
+    const VkDeviceSize bytes = VkDeviceSize(d.width) * d.height * 8 * d.layers * 4 / 3;
+    if (planar.list.empty() || probes.empty() || settings.bounces < 2 || 2 * bytes > kMaxArrayBytes) return;
+    below = gpu::Image(ctx, d, "probes.cubes_below");
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        gpu::transition(cmd, below.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+        VkClearColorValue black{};
+        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+        vkCmdClearColorImage(cmd, below.get(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
+    });
+}
+
+void Probes::Impl::keepBelow(size_t index) {
+    if (below.get() == VK_NULL_HANDLE || lastRound) return;
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        const uint32_t first = uint32_t(6 * index);
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, first, 6);
+        gpu::transition(cmd, below.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
+                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, first, 6);
+        std::vector<VkImageCopy> copies(mips);
+        for (uint32_t m = 0; m < mips; ++m) {
+            const uint32_t size = std::max(faceSize >> m, 1u);
+            copies[m].srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, first, 6};
+            copies[m].dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, first, 6};
+            copies[m].extent = {size, size, 1};
+        }
+        vkCmdCopyImage(cmd, cubes.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, below.get(),
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, mips, copies.data());
+        gpu::transition(cmd, below.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL, 0, VK_REMAINING_MIP_LEVELS, first, 6);
+        gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, 0, VK_REMAINING_MIP_LEVELS, first, 6);
+    });
+}
+
 uint32_t Probes::Impl::readyCount() const {
     return uint32_t(std::count(ready.begin(), ready.end(), true));
 }
@@ -226,9 +265,11 @@ void Probes::update(const Progress& progress) {
     int rounds = m.baked ? 1 : m.settings.bounces;
     size_t done = 0, total = full.size() * 6 * size_t(rounds);
     for (int b = 0; b < rounds && !full.empty(); ++b) {
+        m.lastRound = rounds > 1 && b == rounds - 1;
         m.bakeAll(full, progress, done, total);
         m.baked = true;
     }
+    m.lastRound = false;
     for (size_t i : full) m.pending[i] = false;
     if (!sliced.empty()) {
         if (m.cycleStep(sliced[m.slicedProbe % sliced.size()], m.slicedStep++)) {
