@@ -78,7 +78,6 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
             vkCmdDispatch(pc.cmd(), (width + 7) / 8, (height + 7) / 8, 1);
         });
     c.face = b.out;
-    c.lit = lit;
     return c;
 }
 

@@ -128,7 +128,6 @@ struct Probes::Impl {
         render::FrameInputs frame;
         render::GBuffer g;
         TextureHandle face;
-        TextureHandle lit;  // render.lighting's image, with the sky (the face leaves it out)
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
     // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.

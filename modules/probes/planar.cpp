@@ -158,7 +158,7 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
                                             {s.images.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                                              s.images.desc().usage});
     struct Store {
-        TextureHandle depth, face, lit, out;
+        TextureHandle depth, face, out;
     };
     const Subresource target{base, 1, layer, 1};
     const auto& st = fg.addPass<Store>(
@@ -166,15 +166,14 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
         [&](PassBuilder& pb, Store& d) {
             d.depth = pb.read(cap.g.depth, TextureUsage::Sampled);
             d.face = pb.read(cap.face, TextureUsage::Sampled);
-            d.lit = pb.read(cap.lit, TextureUsage::Sampled);
             d.out = pb.write(images, TextureUsage::StorageWrite, target);
         },
-        [this, &s, cam = view.camera, &info, target](const Store& d, PassContext& pc) {
+        [this, &s, cam = view.camera, &info, target, &env = renderer.environment()](const Store& d, PassContext& pc) {
             s.store.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.depth), nearest)
                 .sampled("faceTex", pc.view(d.face), nearest)
-                .sampled("litTex", pc.view(d.lit), nearest)
+                .sampled("envSpecular", env.specular().view(), env.sampler())
                 .storage("outImage", pc.view(d.out, target, VK_IMAGE_VIEW_TYPE_2D))
                 .push(ctx, pc.cmd(), s.store);
             const glm::vec3 x = info.axisX / info.probe.extents.x, z = info.axisZ / info.probe.extents.y;

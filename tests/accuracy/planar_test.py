@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Planar probe tests against the converged reference (label accuracy; thresholds.json "planar"):
 
-    planar_test.py TOOLS... --check floor|off_plane|cmo_floor --out DIR --cache DIR
+    planar_test.py TOOLS... --check floor|off_plane|cmo_floor|open_sky --out DIR --cache DIR
 
 floor      mirror_floor (tests/accuracy/make_planar_scene.py: a chrome sphere standing on a sharp
            mirror floor in a sealed room) at every view of the rule: the floor's pixels (normal
@@ -14,6 +14,8 @@ cmo_floor  the scene without its planar probe, with and without a CMO above the 
            part 3): the floor's pixels whose mirror ray meets the sphere (its reflected underside,
            computed from the scene's camera and sphere) are never worse with the CMO, by more than
            max_underside_loss_db, and the whole floor by more than max_loss_db.
+open_sky   failure_cases (a sharp mirror floor under an open sky) with and without a planar probe
+           on its floor: the floor reaches psnr_min with it and gains min_gain_db over without.
 """
 import json
 import math
@@ -200,6 +202,42 @@ def off_plane(tools, rule, out, cache):
     return ok
 
 
+def open_sky(tools, rule, out, cache):
+    """failure_cases (a sharp mirror floor under an open sky) with and without a planar probe on
+    its floor, against the scene's converged reference: the mirrored view's sky must be the
+    reflected sky (the oblique projection once flipped it to the environment's ground)."""
+    d = out / "failure_cases"
+    d.mkdir(parents=True, exist_ok=True)
+    without = bench.SOURCE / "assets" / "scenes" / "failure_cases.gltf"
+    doc = json.loads(without.read_text())
+    doc["nodes"].append({"name": "planar.floor", "translation": rule["origin"],
+                         "extensions": {"SPECULUM_reflection_probe": {"kind": "planar", "extents": rule["extents"]}}})
+    doc["scenes"][doc.get("scene", 0)]["nodes"].append(len(doc["nodes"]) - 1)
+    # The placement tool's edit rewrites the buffers', images' and environment's references.
+    sys.path.insert(0, str(bench.SOURCE / "modules" / "probes" / "tools"))
+    from placement.edit import edited_document
+    planar = d / "failure_cases.planar.gltf"
+    planar.write_text(json.dumps(edited_document(doc, [], str(without.parent), str(d.resolve())), indent=1))
+    ok = True
+    for cam in rule["views"]:
+        ref_dir, _ = bench.render_reference(tools, {"scene": "failure_cases", "camera": cam}, rule["size"],
+                                            rule["reference"], cache)
+        exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
+        band = floor_band(tools, {"file": str(planar), "camera": cam}, rule["size"], out / cam)
+        got = {}
+        for label, f in (("planar", planar), ("no_planar", without)):
+            image = capture(tools, {"scene": "failure_cases", "camera": cam, "file": str(f)}, rule["size"],
+                            out / f"{cam}.{label}")
+            got[label] = floor_psnr(tools, image, ref_dir, exposure, band)
+        gain = got["planar"]["psnr_db"] - got["no_planar"]["psnr_db"]
+        good = got["planar"]["psnr_db"] >= rule["psnr_min"] and gain >= rule["min_gain_db"]
+        print(f"open_sky failure_cases.{cam}: floor {got['planar']['psnr_db']:.2f} dB with a planar probe, "
+              f"{got['no_planar']['psnr_db']:.2f} without ({got['planar']['pixels']} floor pixels, {gain:+.2f} dB); "
+              f"must be >= {rule['psnr_min']} and gain >= {rule['min_gain_db']} dB{'' if good else '  FAIL'}")
+        ok &= good
+    return ok
+
+
 def cmo_floor(tools, rule, out, cache):
     files = scenes(out)
     edited = with_cmo(files["no_planar"], rule["cmo"], out)
@@ -227,7 +265,7 @@ def cmo_floor(tools, rule, out, cache):
 
 def main():
     p = tool_parser()
-    p.add_argument("--check", choices=("floor", "off_plane", "cmo_floor"), required=True)
+    p.add_argument("--check", choices=("floor", "off_plane", "cmo_floor", "open_sky"), required=True)
     p.add_argument("--cache", required=True)
     p.add_argument("--out", required=True)
     a = p.parse_args()
@@ -237,7 +275,8 @@ def main():
     rule = dict(rules[a.check])
     for k in ("size", "reference", "views"):
         rule.setdefault(k, rules[k])
-    ok = {"floor": floor, "off_plane": off_plane, "cmo_floor": cmo_floor}[a.check](a, rule, out, Path(a.cache))
+    ok = {"floor": floor, "off_plane": off_plane, "cmo_floor": cmo_floor, "open_sky": open_sky}[a.check](
+        a, rule, out, Path(a.cache))
     sys.exit(0 if ok else 1)
 
 
