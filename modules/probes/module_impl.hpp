@@ -37,10 +37,11 @@ struct Probes::Impl {
     // probes.bounces) stops N reflections deep, as the reference's --bounces N does; the planar
     // image's own surfaces must then reflect bake N - 1 (gallery.main's mirror band +1.6 dB).
     // A CMO's faces are one reflection deep too, but reflecting `below` there lost 0.07-0.11
-    // dB on cornell_mirrors' views (MEASUREMENTS.md, issue 24, 2026-12-04): they keep `cubes`. Made only with planar probes and N >= 2
-    // (with N = 1 both are bake 1); each probe's layers are copied from `cubes` whenever it
-    // finishes a bake, except in the last round of the first bake. Re-bakes after that (a moved
-    // probe, a taken gem) copy their new bake: one bounce deeper, but never stale.
+    // dB on cornell_mirrors' views (MEASUREMENTS.md, issue 24, 2026-12-04): they keep `cubes`.
+    // Made only with planar probes and N >= 2 (with N = 1 both are bake 1); each probe's layers
+    // are copied from `cubes` whenever it finishes a bake, except in the last round of the first
+    // bake. Re-bakes after that (a moved probe, a taken gem) copy their new bake: one bounce
+    // deeper, but never stale.
     gpu::Image below;
     bool lastRound = false;  // update(): the first bake's last round, which `below` does not keep
     std::vector<gpu::Image> radiance;  // per probe: its resolution, full chain, GENERAL between uses

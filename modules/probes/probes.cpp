@@ -22,6 +22,11 @@ constexpr VkFormat kCubeFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr size_t kMaxProbes = 64;
 constexpr VkDeviceSize kMaxArrayBytes = VkDeviceSize(1) << 30;
 
+// The bytes of `cubes` RGBA16F cubes of `face`^2 faces with their mip chains (4/3).
+VkDeviceSize cubeArrayBytes(uint32_t face, size_t cubes) {
+    return VkDeviceSize(face) * face * 8 * 6 * cubes * 4 / 3;
+}
+
 }  // namespace
 
 std::string probeName(const Scene& scene, int node) {
@@ -103,7 +108,7 @@ void Probes::Impl::validate() const {
     for (const ProbeInfo& p : probes)
         if (!largest || p.probe.resolution > largest->probe.resolution) largest = &p;
     uint32_t size = largest ? std::max(8u, largest->probe.resolution) : 8u;
-    VkDeviceSize bytes = VkDeviceSize(size) * size * 8 * 6 * std::max<size_t>(probes.size(), 1) * 4 / 3;
+    VkDeviceSize bytes = cubeArrayBytes(size, std::max<size_t>(probes.size(), 1));
     if (bytes > kMaxArrayBytes)
         throw inputError(file, largest->name + ".extensions.SPECULUM_reflection_probe.resolution: " +
                                    std::to_string(size) + " makes the probes' cube array (" +
@@ -167,7 +172,7 @@ void Probes::Impl::allocate() {
 void Probes::Impl::allocateBelow() {
     const gpu::ImageDesc& d = cubes.desc();
     // Half the array budget: with `below` the probes take both (validate() checks one).
-    const VkDeviceSize bytes = VkDeviceSize(d.width) * d.height * 8 * d.layers * 4 / 3;
+    const VkDeviceSize bytes = cubeArrayBytes(d.width, d.layers / 6);
     if (planar.list.empty() || probes.empty() || settings.bounces < 2 || 2 * bytes > kMaxArrayBytes) return;
     below = gpu::Image(ctx, d, "probes.cubes_below");
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
