@@ -4,10 +4,12 @@
 
     store.py check                                   which entries are fresh, stale or missing (exit 1 if any is not fresh)
     store.py regenerate --reference BIN [--only NAME]... [--force]   render the stale ones, with progress
+    store.py rekey                                   entries fresh under the old digest take today's key (a migration)
 
 An entry of assets/references/manifest.json is a view (scene, camera, size, bounces) rendered
 with the manifest's settings into NAME = SCENE.CAMERA.SIZE.bBOUNCES/. Its key hashes everything
-that changes the image: the scene's files, the camera, the size, the bounces, the settings and
+that changes the image: the scene's files (its probes left out: the reference ignores them),
+the camera, the size, the bounces, the settings and
 the estimator's version (kEstimatorVersion in reference.hpp; the binary itself is not hashed, it
 differs from one compiler to the next). reference.json in the entry records the key it was
 rendered for; an entry whose recorded key differs from today's is stale. The bench and the
@@ -105,16 +107,64 @@ def scene_file(e):
     return _generated[e["generator"]] / f"{e['scene']}.gltf"
 
 
-def scene_digest(gltf):
-    """A sha256 that has taken in the scene's files (the bench's keys start from it too)."""
+PROBE_EXT = "SPECULUM_reflection_probe"
+
+
+def without_probes(gltf):
+    """The scene document's bytes with its reflection probes taken out (None: hash the file's own
+    bytes). The reference traces the scene and ignores its probes (they are the approximation
+    being measured), so a probe placed, moved or removed leaves every converged reference fresh:
+    a scene "with its placed probes" (issue 24) is measured against the same images. Probe nodes
+    are dropped and the node indices of scenes[].nodes and nodes[].children renumbered; anything
+    else changed (a material, a camera, a mesh) changes the digest. A document with skins or
+    animations (other node indices) is hashed as it is."""
+    try:
+        doc = json.loads(gltf.read_text())
+    except (OSError, ValueError, RecursionError):
+        return None
+    if not isinstance(doc, dict) or not isinstance(doc.get("nodes"), list) or "skins" in doc or "animations" in doc:
+        return None
+    def probe(n):
+        return isinstance(n, dict) and isinstance(n.get("extensions"), dict) and PROBE_EXT in n["extensions"]
+    if not any(probe(n) for n in doc["nodes"]):
+        return None
+    renumber, kept = {}, []
+    for i, n in enumerate(doc["nodes"]):
+        if not probe(n):
+            renumber[i] = len(kept)
+            kept.append(n)
+    def remap(refs):
+        return [renumber[r] for r in refs if r in renumber] if isinstance(refs, list) else refs
+    try:
+        for n in kept:
+            if isinstance(n, dict) and "children" in n:
+                n["children"] = remap(n["children"])
+        for sc in doc.get("scenes", []):
+            if isinstance(sc, dict) and "nodes" in sc:
+                sc["nodes"] = remap(sc["nodes"])
+    except TypeError:  # unhashable indices: malformed, the tools report it
+        return None
+    doc["nodes"] = kept
+    for k in ("extensionsUsed", "extensionsRequired"):
+        if isinstance(doc.get(k), list):
+            doc[k] = [x for x in doc[k] if x != PROBE_EXT]
+    return json.dumps(doc, sort_keys=True, separators=(",", ":")).encode()
+
+
+def scene_digest(gltf, probes_matter=False):
+    """A sha256 that has taken in the scene's files (the bench's keys start from it too): the
+    scene document without its probes (without_probes), the files it names byte for byte.
+    probes_matter=True hashes the document's bytes as they are (the digest before 2026-12-04,
+    which `rekey` reads)."""
     h = hashlib.sha256()
     for f in scene_inputs(gltf):
-        h.update(f.name.encode() + file_hash(f).encode())
+        body = None if probes_matter or f != gltf else without_probes(f)
+        h.update(f.name.encode() + (hashlib.sha256(body).hexdigest() if body is not None else file_hash(f)).encode())
     return h
 
 
-def key(e, settings):
-    h = scene_digest(scene_file(e))
+def key(e, settings, probes_matter=False):
+    h = scene_digest(scene_file(e), probes_matter)
     camera = e["camera"] if "camera" in e else file_hash(SOURCE / e["path"])
     h.update(json.dumps([camera, e["size"], e["bounces"], settings, estimator_version()],
                         sort_keys=True).encode())
@@ -255,10 +305,31 @@ def check():
     return bad == 0
 
 
+def rekey():
+    """The migration to the probe-blind digest (2026-12-04): an entry fresh under the old digest
+    (the scene's bytes as they are) holds the image today's key stands for, so it takes today's
+    key without a render. An entry stale under both stays stale."""
+    doc = manifest()
+    moved = 0
+    for e in doc["entries"]:
+        folder = STORE / entry_name(e)
+        info_path = folder / "reference.json"
+        if not info_path.is_file():
+            continue
+        info = json.loads(info_path.read_text())
+        settings = settings_for(doc, e)
+        if info.get("store_key") == key(e, settings, probes_matter=True) and info["store_key"] != key(e, settings):
+            info["store_key"] = key(e, settings)
+            info_path.write_text(json.dumps(info, indent=2) + "\n")
+            moved += 1
+    print(f"store.py: {moved} entr{'y' if moved == 1 else 'ies'} rekeyed")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="command", required=True)
     sub.add_parser("check")
+    sub.add_parser("rekey")
     r = sub.add_parser("regenerate")
     r.add_argument("--reference", required=True, help="the speculum-reference binary")
     r.add_argument("--only", action="append", help="an entry name (SCENE.CAMERA.SIZE.bBOUNCES); repeatable")
@@ -266,6 +337,8 @@ def main():
     a = ap.parse_args()
     if a.command == "check":
         sys.exit(0 if check() else 1)
+    if a.command == "rekey":
+        return rekey()
     regenerate(a.reference, a.only, a.force)
 
 

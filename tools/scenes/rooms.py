@@ -4,6 +4,7 @@ ray from inside, direct or mirrored, may leave."""
 import math
 
 from speculum_py.vec import quat_axis_angle
+from speculum_py.enums import KIND
 
 from .document import Gltf, add_placed_cmos, write_path
 from .materials import LAMP_COLOR, mirror_ext
@@ -168,6 +169,12 @@ def build_closed_room():
     # sphere. Nothing in the room is
     # outside the proxy, so every reflected ray should read room, never sky.
     g.box_probe("reflection_probe.room", (0.0, H / 2, 0.0), [W, H / 2, D], 0.5, 128)
+    # A planar probe on the glossy tile floor (issue 24): what `speculum-probes place --budget-db
+    # 30 --views main` proposes for it (a 48 m^2 flat reflector, 47% of the reflected weight).
+    # The box probe cannot show the floor's reflections of the spheres and the torus (their
+    # undersides, which screen space never sees): mirror band 16.2 -> 20.6 dB on main, 18.6 ->
+    # 21.7 on sphere_close, 17.1 -> 17.8 on back_corner (modules/reflections/MEASUREMENTS.md).
+    g.probe("planar.floor", (0.0, 0.0, 0.0), kind=KIND.planar, extents=[W, D])
 
     g.camera("main", (0.3, 1.7, 2.6), (-0.3, 0.7, -1.2))
     g.camera("sphere_close", (-0.4, 1.15, 0.45), (-1.3, 0.6, -0.9))

@@ -3,13 +3,19 @@ its triangles span, proposed before any CMO is tried there (PLACEMENT.md, "PLANA
 
 import math
 
+from speculum_py.enums import KIND, PROBE_EXT
+from speculum_py.gltf import mat_point, world_matrices
 from speculum_py.vec import cross, dot, length, mul, sub
 
 from .candidates import sample_step
 from .scene import material_weight, normalize
 
 MIN_AREA = 1.0        # m^2: a flat reflector smaller than this is left to the CMOs
-MIN_WEIGHT = 0.25     # material_weight: glossy enough that its reflections show a scene
+# material_weight: glossy enough that its reflections show a scene. A dielectric counts to
+# roughness 0.37 (0.25 (1 - r)^2), a metal to 0.68. It was 0.25, which no dielectric reaches: the
+# closed room's glossy tile floor (0.1, 47% of its reflected weight) was never proposed, and its
+# planar probe lifts that room's mirror band by 4.4 dB (modules/reflections/MEASUREMENTS.md).
+MIN_WEIGHT = 0.1
 
 
 def _frame(n):
@@ -42,9 +48,25 @@ def on_plane(p, n, plane, tol=1e-3):
     return abs(dot(plane["normal"], p) - plane["offset"]) <= tol and dot(n, plane["normal"]) >= 0.999
 
 
+def existing_planes(doc):
+    """[(unit normal, offset)]: the planes of the planar probes the scene already has (world space)."""
+    world = world_matrices(doc)
+    out = []
+    for i, n in enumerate(doc.get("nodes", [])):
+        ext = n.get("extensions", {}).get(PROBE_EXT) if isinstance(n, dict) and isinstance(n.get("extensions"), dict) else None
+        if world[i] is None or not isinstance(ext, dict) or ext.get("kind") != KIND.planar:
+            continue
+        origin = mat_point(world[i], (0.0, 0.0, 0.0))
+        normal = normalize(sub(mat_point(world[i], (0.0, 1.0, 0.0)), origin))
+        out.append((normal, dot(normal, origin)))
+    return out
+
+
 def flat_reflectors(geo, doc, samples, min_area=MIN_AREA):
     """Planes of reflective triangles (coplanar within 1 cm and 0.6 degrees) covering at least
-    min_area, with the reflected samples that land on them; largest reflected weight first."""
+    min_area, with the reflected samples that land on them; largest reflected weight first. A
+    plane that one of the scene's planar probes already lies on is left out (it is served)."""
+    served = existing_planes(doc)
     mats = doc.get("materials", [])
     weight = {}
     groups = {}
@@ -59,9 +81,9 @@ def flat_reflectors(geo, doc, samples, min_area=MIN_AREA):
         g["points"] += [a, tuple(a[k] + e1[k] for k in range(3)), tuple(a[k] + e2[k] for k in range(3))]
     out = []
     for g in groups.values():
-        if g["area"] < min_area:
-            continue
         n = g["normal"]
+        if g["area"] < min_area or any(dot(n, m) >= 0.999 and abs(g["offset"] - o) <= 0.01 for m, o in served):
+            continue
         x, z = _frame(n)
         us = [dot(p, x) for p in g["points"]]
         vs = [dot(p, z) for p in g["points"]]
