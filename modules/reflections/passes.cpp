@@ -147,7 +147,7 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
                                               const TextureDesc& pyramidDesc) {
     struct ReprojectData {
         TextureHandle depth, motion, lit, emissive, historyColor, historyDepth, dst;
-        BufferHandle tiles;
+        BufferHandle tiles, footprint;
     };
     const auto& r = g.addPass<ReprojectData>(
         "reflections.reproject", PassType::Compute,
@@ -159,10 +159,12 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
             d.historyColor = b.read(historyColor.previous, TextureUsage::Sampled);
             d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
             d.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
-            // Reproject keeps one workgroup looping over a footprint's four blocks: a workgroup a
-            // block (reflections.footprint_args) cost it 3 ms more at half (13.1 -> 16 ms on
-            // gallery.main, MEASUREMENTS.md 2026-12-04) where composite gained 1-1.7 ms.
-            if (s.tiles) b.read(tiles.tiles, BufferUsage::Indirect);
+            // At half resolution a workgroup a block of the footprint (reflections.footprint_args),
+            // in the order tiles.glsl's footprintBlockPixel gives them.
+            if (s.tiles && tiles.footprint.valid())
+                d.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
+            else if (s.tiles)
+                b.read(tiles.tiles, BufferUsage::Indirect);
             d.dst = b.write(copied.valid() ? copied : b.create("reflections.color", pyramidDesc),
                             TextureUsage::StorageWrite, mipLevel(0));
         },
@@ -182,7 +184,7 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
             dispatchTiles(pc, w, d.tiles, tiled,
                           {{&reproject(work, half, kListResolveRay), kListResolveRay},
                            {&reproject(kTileModeWork, half, kListLookup), kListLookup}},
-                          pc.extent(d.dst, 0));
+                          pc.extent(d.dst, 0), d.footprint);
         });
     return r.dst;
 }
@@ -289,11 +291,12 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
 }
 
 // reflections.footprint_args: at half resolution a tile of the trace is a 16x16 footprint of the
-// full-resolution passes. One 8x8 workgroup looping over its four blocks cost 2.7 us a block
-// against 1.7 for a full-resolution tile's (reflections.composite 16.8 ms at half against 12.9 at
-// full on gallery.main, MEASUREMENTS.md issue 23): these dispatches give each block its own
-// workgroup (y = 4, gl_WorkGroupID.y the block). The lists' counts are copied from classify's
-// headers; y, z and the padding are written around them, so the two writes never overlap.
+// full-resolution passes (reflections.reproject, reflections.composite), and these dispatches
+// give each of its four 8x8 blocks a workgroup of its own (y = 4; tiles.glsl's
+// footprintBlockPixel orders them so that one footprint's blocks run together, which took the
+// composite at half from 16.8 to 11.6 ms on closed_room.main, MEASUREMENTS.md issue 23). The
+// lists' counts are copied from classify's headers; y, z and the padding are written around
+// them, so the two writes never overlap.
 BufferHandle Reflections::Impl::addFootprintArgs(FrameGraph& g, BufferHandle classified) {
     struct Data {
         BufferHandle tiles, args;

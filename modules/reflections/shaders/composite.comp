@@ -139,6 +139,6 @@ void main() {
     }
     // A workgroup per 8x8 block of the tile's footprint (gl_WorkGroupID.y: the block; 0 at full
     // resolution, 0-3 at half from reflections.footprint_args).
-    ivec2 pixel = footprintPixel(kList, kTileScale, gl_WorkGroupID.y);
+    ivec2 pixel = footprintBlockPixel(kList, kTileScale);
     if (all(lessThan(pixel, size))) compositePixel(pixel);
 }

@@ -63,8 +63,6 @@ void main() {
         if (all(lessThan(pixel, size))) reprojectPixel(pixel);
         return;
     }
-    for (uint i = 0u; i < kTileScale * kTileScale; ++i) {
-        ivec2 pixel = footprintPixel(kList, kTileScale, i);
-        if (all(lessThan(pixel, size))) reprojectPixel(pixel);
-    }
+    ivec2 pixel = footprintBlockPixel(kList, kTileScale);
+    if (all(lessThan(pixel, size))) reprojectPixel(pixel);
 }
