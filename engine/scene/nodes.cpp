@@ -231,4 +231,22 @@ glm::mat4 localMatrix(const Node& n) {
     return m;
 }
 
+std::vector<int> activeProbeNodes(const Scene& scene, ProbeKind kind) {
+    // The active scene's trees, depth first from its roots (a cycle or a bad index is refused at
+    // load; the editor keeps both valid), then file order, as the loader places meshes.
+    std::vector<char> active(scene.nodes.size(), 0);
+    std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
+    while (!stack.empty()) {
+        int i = stack.back();
+        stack.pop_back();
+        if (i < 0 || size_t(i) >= scene.nodes.size() || active[size_t(i)]) continue;
+        active[size_t(i)] = 1;
+        for (int c : scene.nodes[size_t(i)].children) stack.push_back(c);
+    }
+    std::vector<int> out;
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (active[i] && scene.nodes[i].probe && scene.nodes[i].probe->kind == kind) out.push_back(int(i));
+    return out;
+}
+
 }  // namespace speculum

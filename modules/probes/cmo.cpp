@@ -99,11 +99,9 @@ uint32_t baseMip(uint32_t arrayFaceSize, const CmoInfo& info) {
 void Probes::Impl::createCmos() {
     CmoState& c = cmo.emplace(CmoState{});
     const Scene& scene = renderer.scene();
-    for (size_t i = 0; i < scene.nodes.size(); ++i) {
-        const Node& n = scene.nodes[i];
-        if (!n.probe || n.probe->kind != ProbeKind::Cmo) continue;
-        ProbeInfo p = describeProbe(scene, int(i));
-        c.list.push_back({int(i), p.name, p.probe, glm::vec3(n.world[3]), 0});
+    for (int i : activeProbeNodes(scene, ProbeKind::Cmo)) {
+        ProbeInfo p = describeProbe(scene, i);
+        c.list.push_back({i, p.name, p.probe, glm::vec3(scene.nodes[size_t(i)].world[3]), 0});
     }
     // Trace order: higher `order` first, then the file's order.
     std::stable_sort(c.list.begin(), c.list.end(),

@@ -98,9 +98,7 @@ bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t w
 
 void Probes::Impl::createPlanar() {
     const Scene& scene = renderer.scene();
-    for (size_t i = 0; i < scene.nodes.size(); ++i)
-        if (scene.nodes[i].probe && scene.nodes[i].probe->kind == ProbeKind::Planar)
-            planar.list.push_back(describePlanar(scene, int(i)));
+    for (int i : activeProbeNodes(scene, ProbeKind::Planar)) planar.list.push_back(describePlanar(scene, i));
     validatePlanar();
     planar.records = gpu::Buffer(ctx, sizeof(shader::PlanarProbe) * kMaxPlanarProbes,
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.planar.records");

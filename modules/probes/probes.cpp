@@ -75,9 +75,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
       filter(c), allocator(c.physicalDevice(), c.device()),
       executor(c.instance(), c.physicalDevice(), c.device(), c.timestampPeriodNs()) {
     const Scene& scene = r.scene();
-    for (size_t i = 0; i < scene.nodes.size(); ++i)
-        if (scene.nodes[i].probe && scene.nodes[i].probe->kind == ProbeKind::LocalCubemap)
-            probes.push_back(describeProbe(scene, int(i)));
+    for (int i : activeProbeNodes(scene, ProbeKind::LocalCubemap)) probes.push_back(describeProbe(scene, i));
     sortForBlending(probes);
     validate();
     allocate();

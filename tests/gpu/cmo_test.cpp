@@ -57,6 +57,7 @@ Scene boxRoom() {
     cmo.probe = probe;
     cmo.world = glm::translate(glm::mat4(1.0f), kCmoCenter);
     scene.nodes.push_back(cmo);
+    scene.roots.push_back(int(scene.nodes.size()) - 1);  // probes follow the active scene
     Light sun;
     sun.type = LightType::Directional;
     sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));

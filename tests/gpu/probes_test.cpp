@@ -153,6 +153,7 @@ Scene probeScene(const std::vector<ProbeNodeDesc>& descs) {
         n.world = glm::translate(glm::mat4(1.0f), d.translation) *
                   glm::rotate(glm::mat4(1.0f), glm::radians(d.yawDegrees), glm::vec3(0, 1, 0));
         scene.nodes.push_back(n);
+        scene.roots.push_back(int(scene.nodes.size()) - 1);  // probes follow the active scene
     }
     return scene;
 }

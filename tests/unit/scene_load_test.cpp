@@ -354,6 +354,27 @@ TEST(SceneLoad, SpeculumExtensionsAreParsed) {
     EXPECT_EQ(s.roots, (std::vector<int>{0, 2}));
 }
 
+TEST(SceneLoad, OnlyTheActiveScenesProbesCount) {
+    // A probe outside scenes[scene].nodes does nothing, as a mesh there does not; one under a
+    // root node's children counts. Nodes: 0 the quad's root, 1 its mesh, then the probes.
+    auto dir = tmpDir("load_active_probes");
+    GltfData g = quad();
+    g.doc["extensionsUsed"] = {"SPECULUM_reflection_probe"};
+    auto cmo = [](const char* name) {
+        return json{{"name", name},
+                    {"extensions", {{"SPECULUM_reflection_probe", {{"kind", "cmo"}, {"resolution", 64}}}}}};
+    };
+    g.doc["nodes"].push_back(cmo("in_scene"));      // 2: a root of the scene
+    g.doc["nodes"].push_back(cmo("left_out"));      // 3: a root of no scene
+    g.doc["nodes"].push_back(cmo("child"));         // 4: a child of node 0
+    g.doc["nodes"][0]["children"].push_back(4);
+    g.doc["scenes"][0]["nodes"] = {0, 2};
+    Scene s = loadScene(writeGltf(dir / "active.gltf", g));
+    EXPECT_EQ(activeProbeNodes(s, ProbeKind::Cmo), (std::vector<int>{2, 4}));
+    EXPECT_TRUE(activeProbeNodes(s, ProbeKind::Planar).empty());
+    EXPECT_TRUE(s.nodes[3].probe.has_value());  // still loaded: the editor shows and saves it
+}
+
 TEST(SceneLoad, GlbWithBinChunk) {
     auto dir = tmpDir("load_glb");
     GltfData g = quad();

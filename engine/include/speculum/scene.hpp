@@ -167,6 +167,7 @@ struct Node {
 // A node's transform relative to its parent: its matrix when the file gave one, else T * R * S.
 glm::mat4 localMatrix(const Node& node);
 
+
 // A mesh placed in the world: what the renderer draws.
 struct Instance {
     int node = -1;
@@ -195,6 +196,12 @@ struct Scene {
     // nullptr when no camera has that name.
     const Camera* findCamera(const std::string& name) const;
 };
+
+// The nodes of the active scene (its roots and their descendants) that carry a probe of `kind`,
+// in file order. A probe node outside the active scene does nothing, as a mesh, light or camera
+// there does not (glTF 2.0, 3.5.2): before 2026-12-04 the probes module took every node's, so a
+// CMO left out of scenes[].nodes still traced.
+std::vector<int> activeProbeNodes(const Scene& scene, ProbeKind kind);
 
 // Loads .gltf or .glb. Throws Error(ExitCode::BadInput, "<file>: <problem>"). Checks the limits
 // of speculum/limits.hpp (JSON depth, expanded geometry, the environment map's header) first.
