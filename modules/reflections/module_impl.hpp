@@ -94,6 +94,8 @@ struct Reflections::Impl {
     // reflections.reproject_copy), tile scale (half resolution's tiles cover 16x16 full pixels)
     // and list.
     std::map<uint32_t, gpu::Pipeline> reprojects;
+    std::map<uint32_t, gpu::Pipeline> lookupFulls;  // by tile mode and list
+    const gpu::Pipeline& lookupFull(uint32_t tileMode, uint32_t list);
     const gpu::Pipeline& reproject(uint32_t tileMode, bool half, uint32_t list);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -168,6 +170,12 @@ struct Reflections::Impl {
                      ReflectionOutputs& out);
     void addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles, const ReflectionSettings& s,
                     ReflectionOutputs& out);
+    // reflections.lookup_full (half resolution): the pixels whose trace pixel found no
+    // screen-space and no CMO hit take the chain's lookups at full resolution over `upsampled`
+    // (lookup_full.comp); `halfMethod`: the resolve's method image. Returns the new version.
+    TextureHandle addLookupFull(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                const ReflectionSettings& s, TextureHandle hiz, TextureHandle halfMethod,
+                                TextureHandle upsampled);
     // What the passes that keep a history (temporal, refresh) read alike: the surface, its motion,
     // their own history with its normals, and the previous depth (shaders/reprojection.glsl).
     struct HistoryReads {

@@ -483,6 +483,52 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
     out.distance = d.distance;
 }
 
+// reflections.lookup_full (lookup_full.comp): over the upsampled reflection, on the reflective
+// tiles' footprints, else over the whole screen.
+TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                               const ReflectionSettings& s, TextureHandle hizPyramid,
+                                               TextureHandle halfMethod, TextureHandle upsampled) {
+    struct Data {
+        TextureHandle hiz, normal, emissive, method, probeCubes, planar, dst;
+        BufferHandle probeRecords, planarRecords, tiles, footprint;
+    };
+    const probes::ProbeSet& set = in.probes;  // dummies where the host gave none (Reflections::addPasses)
+    const auto& d = g.addPass<Data>(
+        "reflections.lookup_full", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(hizPyramid, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.method = b.read(halfMethod, TextureUsage::Sampled);
+            data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
+            data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
+            data.planar = b.read(set.planar.images, TextureUsage::Sampled);
+            data.planarRecords = b.read(set.planar.records, BufferUsage::StorageRead);
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            if (s.tiles) data.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
+            data.dst = b.write(upsampled, TextureUsage::StorageWrite);
+        },
+        [this, tiled = s.tiles](const Data& data, PassContext& pc) {
+            const render::Environment& env = renderer.environment();
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled("methodTex", pc.view(data.method), nearest)
+                .sampled("envSpecular", env.specular().view(), env.sampler())
+                .buffer("ProbeBuffer", pc.buffer(data.probeRecords))
+                .sampled("probeCubes", pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
+                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
+                .storage("reflectionOut", pc.view(data.dst))
+                .buffer("tiles", pc.buffer(data.tiles));
+            using namespace shader;
+            // A pixel with lookups reflects, so its tile is in one of the two reflective lists.
+            dispatchTiles(pc, w, data.tiles, tiled,
+                          {{&lookupFull(tiled ? kTileModeWork : kTileModeScreen, kListResolveRay), kListResolveRay},
+                           {&lookupFull(kTileModeWork, kListLookup), kListLookup}},
+                          pc.extent(data.dst), data.footprint);
+        });
+    return d.dst;
+}
+
 Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
                                                               const ReflectionOutputs& out, const Classified& tiles,
                                                               const ReflectionSettings& s, TextureHandle raw) {

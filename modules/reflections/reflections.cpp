@@ -323,6 +323,17 @@ const gpu::Pipeline& Reflections::Impl::reproject(uint32_t tileMode, bool half, 
     return it->second;
 }
 
+const gpu::Pipeline& Reflections::Impl::lookupFull(uint32_t tileMode, uint32_t list) {
+    const uint32_t key = tileMode * shader::kTileLists + list;
+    auto it = lookupFulls.find(key);
+    if (it == lookupFulls.end())
+        it = lookupFulls
+                 .emplace(key, gpu::createComputePipeline(ctx, "reflections/lookup_full.comp", 0, "reflections.lookup_full",
+                                                          withTileMode({0u, 0u, 2u, list}, tileMode)))
+                 .first;
+    return it->second;
+}
+
 const gpu::Pipeline& Reflections::Impl::composite(const CompositeVariant& v, uint32_t list) {
     const uint32_t key =
         ((uint32_t(v.view) * 8 + (v.temporal ? 4 : 0) + (v.tiled ? 2 : 0) + (v.half ? 1 : 0)) * shader::kTileLists) + list;
@@ -378,6 +389,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
         // A quarter budget's refresh upsamples the reflection itself, where it needs to.
         out.reflection = quarter ? m.addRefresh(graph, in, out.hiz, out, halfReflection)
                                  : m.upsampler.addPass(graph, up, "reflections.upsample", "reflections.reflection");
+        if (!quarter && s.fullResLookups)
+            out.reflection = m.addLookupFull(graph, in, tiles, s, out.hiz, out.method, out.reflection);
         // Culled unless the method AOV or a debug view reads it.
         up.low = out.method;
         out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");

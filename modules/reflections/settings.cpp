@@ -89,6 +89,11 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
         bind<&R::resolution>({"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
          "Trace and resolve at full size, or at half size in each axis followed by a joint bilateral "
          "upsampling guided by full-resolution depth, normal and material (about 4x fewer rays)."}),
+        bind<&R::fullResLookups>({"reflections.full_res_lookups", T::Bool, "", 0, 1, 0, {},
+         "Half resolution: pixels whose trace pixel found no screen-space or CMO hit take the "
+         "planar probe, local probes and sky at their own full-resolution position instead of "
+         "the upsampled value: sharper curved mirrors (+0.2 to +1.8 dB in the mirror band) for "
+         "one more full-size pass (38 ms at 960x540 on lavapipe, twice the upsampling)."}),
         bind<&R::tiles>({"reflections.tiles", T::Bool, "", 0, 1, 1, {},
          "Classify 8x8 tiles by what their pixels need (a screen-space ray, the CMOs, a probe and sky "
          "lookup, nothing) and run the trace, the CMO trace and the resolve only where needed, by "

@@ -4,7 +4,8 @@ reflections.tiles on (reflections.classify's tile lists, indirect dispatch, fill
 tiles that need nothing) and off (every per-pixel pass over the whole screen) must give the same
 bits in every AOV the module writes, with no NaN, at the stripes test's five odd sizes (tile
 edges fall mid-tile on the right and bottom) and in every mode the lists treat differently: full
-and half resolution, cone and stochastic glossy, CMOs, planar probes (the gallery's floor),
+and half resolution (half also with reflections.full_res_lookups), cone and stochastic glossy,
+CMOs, planar probes (the gallery's floor),
 temporal accumulation over several frames, screen space off (lookup tiles only). Every scene here
 has CMOs (the cmo AOV needs them).
 
@@ -26,6 +27,8 @@ CASES = [
     ("cornell_mirrors", "main", 4, ["reflections.resolution=half", "reflections.temporal=true",
                                     "reflections.glossy=stochastic"]),
     ("gallery", "floor_grazing", 1, ["reflections.screen_space=false"]),
+    # reflections.lookup_full over the reflective footprints against the whole screen.
+    ("gallery", "main", 1, ["reflections.resolution=half", "reflections.full_res_lookups=true"]),
 ]
 
 
