@@ -176,6 +176,14 @@ struct Reflections::Impl {
     TextureHandle addLookupFull(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                                 const ReflectionSettings& s, TextureHandle hiz, TextureHandle halfMethod,
                                 TextureHandle upsampled);
+    // The fallback chain past screen space, as the passes that evaluate it (resolve, lookup_full)
+    // read it: the local probes, the planar probes and (bindChain) the sky.
+    struct ChainReads {
+        TextureHandle probeCubes, planar;
+        BufferHandle probeRecords, planarRecords;
+    };
+    static ChainReads readChain(PassBuilder& b, const probes::ProbeSet& set);
+    void bindChain(gpu::DescriptorWriter& w, PassContext& pc, const ChainReads& r) const;
     // What the passes that keep a history (temporal, refresh) read alike: the surface, its motion,
     // their own history with its normals, and the previous depth (shaders/reprojection.glsl).
     struct HistoryReads {

@@ -419,21 +419,33 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
     out.cmoInfo = d.info;
 }
 
+// The probe sets are the host's, or the dummies Reflections::addPasses imports when it gave none.
+Reflections::Impl::ChainReads Reflections::Impl::readChain(PassBuilder& b, const probes::ProbeSet& set) {
+    return {b.read(set.cubes, TextureUsage::Sampled), b.read(set.planar.images, TextureUsage::Sampled),
+            b.read(set.records, BufferUsage::StorageRead), b.read(set.planar.records, BufferUsage::StorageRead)};
+}
+
+void Reflections::Impl::bindChain(gpu::DescriptorWriter& w, PassContext& pc, const ChainReads& r) const {
+    const render::Environment& env = renderer.environment();
+    w.sampled("envSpecular", env.specular().view(), env.sampler())
+        .buffer("ProbeBuffer", pc.buffer(r.probeRecords))
+        .sampled("probeCubes", pc.view(r.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+        .buffer("PlanarBuffer", pc.buffer(r.planarRecords))
+        .sampled("planarImages", pc.view(r.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
+}
+
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                                    const ReflectionSettings& s, ReflectionOutputs& out) {
     const TextureHandle guideImage = tiles.guide;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, probeCubes, planar;
-        BufferHandle probeRecords, planarRecords, tiles;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo;
+        BufferHandle tiles;
+        ChainReads chain;
     };
-    const probes::ProbeSet& set = in.probes;  // dummies where the host gave none (Reflections::addPasses)
     const auto& d = g.addPass<Data>(
         "reflections.resolve", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
-            data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
-            data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
-            data.planar = b.read(set.planar.images, TextureUsage::Sampled);
-            data.planarRecords = b.read(set.planar.records, BufferUsage::StorageRead);
+            data.chain = readChain(b, in.probes);
             data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
             b.read(tiles.tiles, BufferUsage::Indirect);
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
@@ -456,19 +468,14 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
         },
         [this, res = guideImage.valid() ? Resolution::Half : Resolution::Full, glossy = s.glossy,
          tiled = s.tiles](const Data& data, PassContext& pc) {
-            const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            bindChain(w, pc, data.chain);
             w.sampled("hitTex", pc.view(data.hit), nearest)
                 .sampled("colorPyramid", pc.view(data.color), trilinear)
                 .sampled("guideTex", pc.view(data.guide), nearest)
-                .sampled("envSpecular", env.specular().view(), env.sampler())
                 .storage("reflectionOut", pc.view(data.reflection))
                 .storage("methodOut", pc.view(data.method))
-                .buffer("ProbeBuffer", pc.buffer(data.probeRecords))
-                .sampled("probeCubes", pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
                 .sampled("cmoTex", pc.view(data.cmo), nearest)
-                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
-                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
                 .storage("distanceOut", pc.view(data.distance))
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;
@@ -489,10 +496,10 @@ TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionIn
                                                const ReflectionSettings& s, TextureHandle hizPyramid,
                                                TextureHandle halfMethod, TextureHandle upsampled) {
     struct Data {
-        TextureHandle hiz, normal, emissive, method, probeCubes, planar, dst;
-        BufferHandle probeRecords, planarRecords, tiles, footprint;
+        TextureHandle hiz, normal, emissive, method, dst;
+        BufferHandle tiles, footprint;
+        ChainReads chain;
     };
-    const probes::ProbeSet& set = in.probes;  // dummies where the host gave none (Reflections::addPasses)
     const auto& d = g.addPass<Data>(
         "reflections.lookup_full", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
@@ -500,23 +507,15 @@ TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionIn
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.method = b.read(halfMethod, TextureUsage::Sampled);
-            data.probeCubes = b.read(set.cubes, TextureUsage::Sampled);
-            data.probeRecords = b.read(set.records, BufferUsage::StorageRead);
-            data.planar = b.read(set.planar.images, TextureUsage::Sampled);
-            data.planarRecords = b.read(set.planar.records, BufferUsage::StorageRead);
+            data.chain = readChain(b, in.probes);
             data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
             if (s.tiles) data.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
             data.dst = b.write(upsampled, TextureUsage::StorageWrite);
         },
         [this, tiled = s.tiles](const Data& data, PassContext& pc) {
-            const render::Environment& env = renderer.environment();
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            bindChain(w, pc, data.chain);
             w.sampled("methodTex", pc.view(data.method), nearest)
-                .sampled("envSpecular", env.specular().view(), env.sampler())
-                .buffer("ProbeBuffer", pc.buffer(data.probeRecords))
-                .sampled("probeCubes", pc.view(data.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
-                .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
-                .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
                 .storage("reflectionOut", pc.view(data.dst))
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;

@@ -4,7 +4,6 @@
 
     store.py check                                   which entries are fresh, stale or missing (exit 1 if any is not fresh)
     store.py regenerate --reference BIN [--only NAME]... [--force]   render the stale ones, with progress
-    store.py rekey                                   entries fresh under the old digest take today's key (a migration)
 
 An entry of assets/references/manifest.json is a view (scene, camera, size, bounces) rendered
 with the manifest's settings into NAME = SCENE.CAMERA.SIZE.bBOUNCES/. Its key hashes everything
@@ -151,20 +150,18 @@ def without_probes(gltf):
     return json.dumps(doc, sort_keys=True, separators=(",", ":")).encode()
 
 
-def scene_digest(gltf, probes_matter=False):
+def scene_digest(gltf):
     """A sha256 that has taken in the scene's files (the bench's keys start from it too): the
-    scene document without its probes (without_probes), the files it names byte for byte.
-    probes_matter=True hashes the document's bytes as they are (the digest before 2026-12-04,
-    which `rekey` reads)."""
+    scene document without its probes (without_probes), the files it names byte for byte."""
     h = hashlib.sha256()
     for f in scene_inputs(gltf):
-        body = None if probes_matter or f != gltf else without_probes(f)
+        body = without_probes(f) if f == gltf else None
         h.update(f.name.encode() + (hashlib.sha256(body).hexdigest() if body is not None else file_hash(f)).encode())
     return h
 
 
-def key(e, settings, probes_matter=False):
-    h = scene_digest(scene_file(e), probes_matter)
+def key(e, settings):
+    h = scene_digest(scene_file(e))
     camera = e["camera"] if "camera" in e else file_hash(SOURCE / e["path"])
     h.update(json.dumps([camera, e["size"], e["bounces"], settings, estimator_version()],
                         sort_keys=True).encode())
@@ -305,31 +302,10 @@ def check():
     return bad == 0
 
 
-def rekey():
-    """The migration to the probe-blind digest (2026-12-04): an entry fresh under the old digest
-    (the scene's bytes as they are) holds the image today's key stands for, so it takes today's
-    key without a render. An entry stale under both stays stale."""
-    doc = manifest()
-    moved = 0
-    for e in doc["entries"]:
-        folder = STORE / entry_name(e)
-        info_path = folder / "reference.json"
-        if not info_path.is_file():
-            continue
-        info = json.loads(info_path.read_text())
-        settings = settings_for(doc, e)
-        if info.get("store_key") == key(e, settings, probes_matter=True) and info["store_key"] != key(e, settings):
-            info["store_key"] = key(e, settings)
-            info_path.write_text(json.dumps(info, indent=2) + "\n")
-            moved += 1
-    print(f"store.py: {moved} entr{'y' if moved == 1 else 'ies'} rekeyed")
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="command", required=True)
     sub.add_parser("check")
-    sub.add_parser("rekey")
     r = sub.add_parser("regenerate")
     r.add_argument("--reference", required=True, help="the speculum-reference binary")
     r.add_argument("--only", action="append", help="an entry name (SCENE.CAMERA.SIZE.bBOUNCES); repeatable")
@@ -337,8 +313,6 @@ def main():
     a = ap.parse_args()
     if a.command == "check":
         sys.exit(0 if check() else 1)
-    if a.command == "rekey":
-        return rekey()
     regenerate(a.reference, a.only, a.force)
 
 

@@ -28,6 +28,7 @@ layout(set = 0, binding = 2) uniform sampler2D normalTex;
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
 layout(set = 0, binding = 5) uniform sampler2D methodTex;  // half: the resolve's method weights
 layout(set = 0, binding = 8) uniform samplerCube envSpecular;
+#include "reflections/shaders/chain.glsl"  // probesAndSky (after envSpecular)
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;  // full: the upsampled reflection
 // The reflective tiles' footprints (tiles.glsl, as reflections.composite takes them).
 #include "reflections/shaders/tiles.glsl"
@@ -49,9 +50,9 @@ void lookupPixel(ivec2 pixel) {
     float planarWeight = planar >= 0 ? planarShare(m.roughness) : 0.0;
     vec3 radiance = vec3(0.0);
     if (planarWeight < 1.0) {
-        vec4 probe = sampleProbes(rf.probeCount, p, n, r, m.roughness);
-        vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-        radiance = probe.rgb + (1.0 - probe.a) * sky;
+        vec4 probe;
+        float proxyDistance;
+        radiance = probesAndSky(p, n, r, m.roughness, probe, proxyDistance);
     }
     if (planarWeight > 0.0) radiance = mix(radiance, samplePlanar(planar, p, r, m.roughness, distance(p, rfm.eye)).rgb, planarWeight);
     imageStore(reflectionOut, pixel, vec4(max(radiance, vec3(0.0)), 0.0));

@@ -25,6 +25,7 @@ layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
 layout(set = 0, binding = 5) uniform sampler2D hitTex;       // texelFetch
 layout(set = 0, binding = 6) uniform sampler2D colorPyramid; // trilinear; alpha: pre-integrated visibility
 layout(set = 0, binding = 8) uniform samplerCube envSpecular;
+#include "reflections/shaders/chain.glsl"  // probesAndSky (after envSpecular)
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;
 layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
 layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
@@ -213,9 +214,7 @@ void main() {
             if (rf.cmoCount > 0u) cmo = texelFetch(cmoTex, out_, 0);
             cmoWeight = cmo.a > 0.0 ? 1.0 : 0.0;
             if (cmoWeight < 1.0) {
-                probe = sampleProbes(rf.probeCount, p, n, r, m.roughness, proxyDistance);
-                vec3 sky = textureLod(envSpecular, r, m.roughness * rf.envMaxMip).rgb;
-                env = probe.rgb + (1.0 - probe.a) * sky;
+                env = probesAndSky(p, n, r, m.roughness, probe, proxyDistance);
             } else {
                 env = cmo.rgb;
             }
