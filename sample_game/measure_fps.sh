@@ -7,10 +7,11 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 frames=${1:-200}
+build=$root/${SPECULUM_BUILD_DIR:-build}
 echo "load average: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
 for preset in low medium high; do
-  log=$(MESA_SHADER_CACHE_DIR=$root/build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
-    "$root/build/sample_game/speculum-game" --preset "$preset" --frames "$frames" 2>&1 | grep ' fps ')
+  log=$(MESA_SHADER_CACHE_DIR=$build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
+    "$build/sample_game/speculum-game" --preset "$preset" --frames "$frames" 2>&1 | grep ' fps ')
   echo "$log" | tail -n +4 | python3 -c "
 import re, statistics, sys
 rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]

@@ -55,6 +55,11 @@ def capture(a, scene, camera, sets, out, aov):
     return {"frame": t["frame"]["median_ms"], "passes": passes, "rays": rays}
 
 
+def ms(v):
+    """Milliseconds with the digits a GPU's sub-millisecond passes need (lavapipe's are tens of ms)."""
+    return "-" if v is None else f"{v:.1f}" if v >= 10 else f"{v:.2f}" if v >= 0.1 else f"{v:.3f}"
+
+
 def med(xs):
     xs = [x for x in xs if x is not None]
     return statistics.median(xs) if xs else None
@@ -106,15 +111,15 @@ def main():
             rays = med(r["rays"] for r in rs)
             rows[(scene, camera, name)] = {"frame": frame, "module": module, "probes": probes, "rays": rays,
                                            "trace": trace}
-            per = lambda ms: f"{1000 * ms / rays:.2f}" if rays and ms else "-"
-            print(f"| {name} | {frame:.1f} | {module:.1f} | {module / frame:.0%} | {probes:.1f} | "
-                  f"{rays if rays is not None else '-'} | {per(trace)} | {per(module)} |")
+            per = lambda t: f"{1000 * t / rays:.3g}" if rays and t else "-"
+            print(f"| {name} | {ms(frame)} | {ms(module)} | {module / frame:.0%} | {ms(probes)} | "
+                  f"{'-' if rays is None else f'{rays:.0f}'} | {per(trace)} | {per(module)} |")
         print()
         g = lambda n, k: rows.get((scene, camera, n), {}).get(k)
         lines = []
         if g("engine", "frame") and g("default", "module"):
             lines.append(f"module / (engine frame + module) {g('default', 'module') / (g('engine', 'frame') + g('default', 'module')):.0%} "
-                         f"(engine alone {g('engine', 'frame'):.1f} ms)")
+                         f"(engine alone {ms(g('engine', 'frame'))} ms)")
         if g("no_cmos", "module") and g("default", "module"):
             lines.append(f"the scene's CMOs add {g('default', 'module') / g('no_cmos', 'module') - 1:+.0%} to the module")
         if g("half", "module"):
@@ -123,7 +128,7 @@ def main():
             lines.append(f"tiles save {1 - g('default', 'module') / g('tiles_off', 'module'):.0%} of the module")
         if all(g(p, "module") for p in ("low", "medium", "high")):
             lo, me, hi = (g(p, "module") for p in ("low", "medium", "high"))
-            lines.append(f"presets low {lo:.1f} < medium {me:.1f} < high {hi:.1f}: {'yes' if lo < me < hi else 'NO'}; "
+            lines.append(f"presets low {ms(lo)} < medium {ms(me)} < high {ms(hi)}: {'yes' if lo < me < hi else 'NO'}; "
                          f"low / default {lo / g('default', 'module'):.2f}")
         for l in lines:
             print(f"- {l}")
@@ -134,7 +139,7 @@ def main():
                         if k.startswith(("reflections.", "probes."))})
         for k in names:
             cells = [med(r["passes"].get(k) for r in results[(scene, camera, n)]) for n in configs]
-            print(f"| {k} | " + " | ".join(f"{c:.1f}" if c is not None else "-" for c in cells) + " |")
+            print(f"| {k} | " + " | ".join(ms(c) for c in cells) + " |")
         print()
     if a.json:
         json.dump({f"{s}.{c}.{n}": v for (s, c, n), v in rows.items()}, open(a.json, "w"), indent=1)
