@@ -9,7 +9,6 @@
 namespace speculum::reflections {
 namespace {
 
-constexpr VkFormat kHiZFormat = VK_FORMAT_R32G32_SFLOAT;
 constexpr VkFormat kVisibilityFormat = VK_FORMAT_R8_UNORM;
 constexpr VkFormat kColorFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kHitFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
@@ -21,11 +20,11 @@ std::string levelName(const char* pass, uint32_t level) {
     return std::string("reflections.") + pass + "." + std::to_string(level);
 }
 
-// Mip 0 of `src` copied whole into mip 0 of `dst` (transfer layouts, as the graph put them).
-void copyLevel0(PassContext& pc, TextureHandle src, TextureHandle dst, VkImageAspectFlags aspect) {
+// Mip 0 of the colour image `src` copied whole into mip 0 of `dst` (transfer layouts, as the graph put them).
+void copyLevel0(PassContext& pc, TextureHandle src, TextureHandle dst) {
     VkExtent2D e = pc.extent(src);
     VkImageCopy copy{};
-    copy.srcSubresource = {aspect, 0, 0, 1};
+    copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.dstSubresource = copy.srcSubresource;
     copy.extent = {e.width, e.height, 1};
     vkCmdCopyImage(pc.cmd(), pc.image(src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(dst),
@@ -35,7 +34,7 @@ void copyLevel0(PassContext& pc, TextureHandle src, TextureHandle dst, VkImageAs
 }  // namespace
 
 std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const std::string& pass, TextureHandle lit,
-                                                         const std::vector<std::pair<std::string, TextureDesc>>& targets) {
+                                                         const std::vector<CopyTarget>& targets) {
     struct Data {
         TextureHandle lit;
         std::vector<TextureHandle> dst;
@@ -44,16 +43,18 @@ std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const st
         pass, PassType::Transfer,
         [&](PassBuilder& b, Data& data) {
             data.lit = b.read(lit, TextureUsage::TransferSrc);
-            for (const auto& [name, desc] : targets)
-                data.dst.push_back(b.write(b.create(name, desc), TextureUsage::TransferDst, mipLevel(0)));
+            for (const CopyTarget& t : targets)
+                data.dst.push_back(b.write(t.into.valid() ? t.into : b.create(t.name, t.desc), TextureUsage::TransferDst,
+                                           mipLevel(0)));
         },
         [](const Data& data, PassContext& pc) {
-            for (TextureHandle dst : data.dst) copyLevel0(pc, data.lit, dst, VK_IMAGE_ASPECT_COLOR_BIT);
+            for (TextureHandle dst : data.dst) copyLevel0(pc, data.lit, dst);
         });
     return d.dst;
 }
 
 TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels, TextureHandle& visibility) {
+    historyHiz = g.importHistory("reflections.hiz", history.hiz.history());
     // Levels 0 and 1 and visibility level 1 in one pass (hiz_first.comp); a 1x1 view has level 0 only.
     struct FirstData {
         TextureHandle depth, level0, level1, visibility;
@@ -63,8 +64,8 @@ TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint
         levelName("hiz", 0), PassType::Compute,
         [&](PassBuilder& b, FirstData& data) {
             data.depth = b.read(depth, TextureUsage::Sampled);
-            TextureHandle pyramid = b.create("reflections.hiz", TextureDesc{.format = kHiZFormat, .mips = levels});
-            data.level0 = b.write(pyramid, TextureUsage::StorageWrite, mipLevel(0));
+            // Into the history pair's current image: its level 0 is the next frame's previous depth.
+            data.level0 = b.write(historyHiz.current, TextureUsage::StorageWrite, mipLevel(0));
             if (!two) return;
             data.level1 = b.write(data.level0, TextureUsage::StorageWrite, mipLevel(1));
             TextureHandle vis = b.create("reflections.visibility", TextureDesc{.format = kVisibilityFormat, .mips = levels});
@@ -157,7 +158,7 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
             d.lit = b.read(in.lit, TextureUsage::Sampled);
             d.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             d.historyColor = b.read(historyColor.previous, TextureUsage::Sampled);
-            d.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+            d.historyDepth = b.read(historyHiz.previous, TextureUsage::Sampled, mipLevel(0));
             d.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
             // At half resolution a workgroup a block of the footprint (reflections.footprint_args),
             // in the order tiles.glsl's footprintBlockPixel gives them.
@@ -176,7 +177,7 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
                 .sampled("emissiveTex", pc.view(d.emissive), nearest)
                 .buffer("MaterialTable", materials.get())
                 .sampled("historyColor", pc.view(d.historyColor), trilinear)
-                .sampled("historyDepth", pc.view(d.historyDepth), nearest)
+                .sampled("historyDepth", pc.view(d.historyDepth, mipLevel(0)), nearest)
                 .storage("dst", pc.view(d.dst, mipLevel(0)))
                 .buffer("tiles", pc.buffer(d.tiles));
             using namespace shader;
@@ -192,7 +193,6 @@ TextureHandle Reflections::Impl::addReproject(FrameGraph& g, const ReflectionInp
 TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const ReflectionInputs& in, TextureHandle visibility,
                                                  uint32_t levels, const Classified& tiles, const ReflectionSettings& s) {
     historyColor = g.importHistory("reflections.history.color", history.color.history());
-    historyDepth = g.importHistory("reflections.history.depth", history.depth.history());
     // With tiles, level 0 starts as the lit image (what every pixel that does not reflect gets),
     // copied whole, and the reprojection overwrites the reflective tiles.
     const TextureDesc pyramidDesc{.format = kColorFormat, .mips = levels};
@@ -200,7 +200,7 @@ TextureHandle Reflections::Impl::addColorPyramid(FrameGraph& g, const Reflection
     // same bits (3.5 of low's 48 ms at 330x256 on lavapipe, 19 ms at 960x540 fully reflective).
     const bool reprojects = s.multiBounce;
     TextureHandle copied = s.tiles || !reprojects ? addLitCopy(g, "reflections.reproject_copy", in.lit,
-                                                               {{"reflections.color", pyramidDesc}})[0]
+                                                               {{"reflections.color", pyramidDesc, {}}})[0]
                                                   : TextureHandle{};
     TextureHandle pyramid = copied;
     if (reprojects) pyramid = addReproject(g, in, tiles, s, copied, pyramidDesc);
@@ -539,8 +539,9 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
     const TextureDesc litDesc{.format = render::kLinearFormat};
     TextureHandle copiedDst, copiedPlain;
     if (variant.tiled) {
-        std::vector<std::pair<std::string, TextureDesc>> targets{{"reflections.lit", litDesc}};
-        if (separate) targets.emplace_back("reflections.lit_plain", litDesc);
+        // The image the next frame reprojects is written in place in the colour history.
+        std::vector<CopyTarget> targets{{"reflections.lit", litDesc, separate ? TextureHandle{} : historyColor.current}};
+        if (separate) targets.push_back({"reflections.lit_plain", litDesc, historyColor.current});
         std::vector<TextureHandle> copied = addLitCopy(g, "reflections.composite_copy", in.lit, targets);
         copiedDst = copied[0];
         if (separate) copiedPlain = copied[1];
@@ -572,13 +573,13 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                                  : view == DebugView::Cmo && out.cmoInfo.valid() ? out.cmoInfo
                                                                                  : data.reflection,
                                  TextureUsage::Sampled);
-            data.dst = b.write(variant.tiled ? copiedDst : b.create("reflections.lit", litDesc), TextureUsage::StorageWrite);
+            const TextureHandle fresh = separate ? b.create("reflections.lit", litDesc) : historyColor.current;
+            data.dst = b.write(variant.tiled ? copiedDst : fresh, TextureUsage::StorageWrite);
             // A debug view replaces the image; the history still gets the real one, or the
             // next frames would reflect the debug colours. With temporal accumulation the
             // history gets this frame's own reflection (composite.comp says why).
             if (separate)
-                data.plain = b.write(variant.tiled ? copiedPlain : b.create("reflections.lit_plain", litDesc),
-                                     TextureUsage::StorageWrite);
+                data.plain = b.write(variant.tiled ? copiedPlain : historyColor.current, TextureUsage::StorageWrite);
         },
         [this, variant, separate](const Data& data, PassContext& pc) {
             const render::Environment& env = renderer.environment();
@@ -605,7 +606,9 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                            {&composite(variant, kListLookup), kListLookup}},
                           pc.extent(data.dst), data.footprint);
         });
-    return {d.dst, separate ? d.plain : d.dst};
+    const TextureHandle history = separate ? d.plain : d.dst;
+    g.markOutput(history);  // nothing reads it this frame: the next frame's reprojection does
+    return {d.dst, history};
 }
 
 Reflections::Impl::HistoryReads Reflections::Impl::readHistory(PassBuilder& b, const ReflectionInputs& in,
@@ -618,7 +621,7 @@ Reflections::Impl::HistoryReads Reflections::Impl::readHistory(PassBuilder& b, c
     r.motion = b.read(in.gbuffer.motion, TextureUsage::Sampled);
     r.history = b.read(color.previous, TextureUsage::Sampled);
     r.historyNormal = b.read(normal.previous, TextureUsage::Sampled);
-    r.historyDepth = b.read(historyDepth.previous, TextureUsage::Sampled);
+    r.historyDepth = b.read(historyHiz.previous, TextureUsage::Sampled, mipLevel(0));
     return r;
 }
 
@@ -627,7 +630,7 @@ gpu::DescriptorWriter Reflections::Impl::historyWriter(PassContext& pc, const Hi
     w.sampled("motionTex", pc.view(r.motion), nearest)
         .sampled("historyTex", pc.view(r.history), nearest)
         .sampled("historyNormal", pc.view(r.historyNormal), nearest)
-        .sampled("historyDepth", pc.view(r.historyDepth), nearest);
+        .sampled("historyDepth", pc.view(r.historyDepth, mipLevel(0)), nearest);
     return w;
 }
 
@@ -689,26 +692,6 @@ TextureHandle Reflections::Impl::addTemporal(FrameGraph& g, const ReflectionInpu
         });
     g.markOutput(d.dstNormal);
     return d.dst;
-}
-
-void Reflections::Impl::addHistory(FrameGraph& g, TextureHandle lit, TextureHandle depth) {
-    struct Data {
-        TextureHandle lit, depth, color, historyDepth;
-    };
-    const auto& d = g.addPass<Data>(
-        "reflections.history", PassType::Transfer,
-        [&](PassBuilder& b, Data& data) {
-            data.lit = b.read(lit, TextureUsage::TransferSrc);
-            data.depth = b.read(depth, TextureUsage::TransferSrc);
-            data.color = b.write(historyColor.current, TextureUsage::TransferDst);
-            data.historyDepth = b.write(historyDepth.current, TextureUsage::TransferDst);
-        },
-        [](const Data& data, PassContext& pc) {
-            copyLevel0(pc, data.lit, data.color, VK_IMAGE_ASPECT_COLOR_BIT);
-            copyLevel0(pc, data.depth, data.historyDepth, VK_IMAGE_ASPECT_DEPTH_BIT);
-        });
-    g.markOutput(d.color);
-    g.markOutput(d.historyDepth);
 }
 
 TextureHandle Reflections::Impl::addHiZView(FrameGraph& g, TextureHandle hizPyramid) {

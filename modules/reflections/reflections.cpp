@@ -184,7 +184,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 
-void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, bool refreshImages) {
+void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, uint32_t levels, bool refreshImages) {
     constexpr VkImageUsageFlags kRefreshUsage =
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     if (refreshImages && (history.refresh.desc().width != w || history.refresh.desc().height != h)) {
@@ -194,11 +194,13 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, bool refreshImages
             ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kRefreshUsage}, "reflections.history.refresh_normal");
     }
     if (history.width == w && history.height == h) return;
-    history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat}, "reflections.history.color");
-    history.depth = gpu::HistoryImages(ctx, {w, h, render::kDepthFormat}, "reflections.history.depth");
-    // Storage: the temporal pass writes them; transfer source: the reflection AOV reads them back.
+    // Storage: the passes write them (composite, Hi-Z, temporal); transfer source: the AOVs
+    // (linear, hiz, reflection) read them back, and the lit copies read the colour.
     constexpr VkImageUsageFlags kStorageUsage =
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat, 1, 1, false, kStorageUsage},
+                                       "reflections.history.color");
+    history.hiz = gpu::HistoryImages(ctx, {w, h, kHiZFormat, levels, 1, false, kStorageUsage}, "reflections.hiz");
     history.reflection = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
                                             "reflections.history.reflection");
     history.normal = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
@@ -369,7 +371,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     }
     uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
     uint32_t levels = pyramidLevels(w, h);
-    m.ensureHistory(w, h, quarter);
+    m.ensureHistory(w, h, levels, quarter);
     m.writeUniforms(in, s, asked, w, h, levels);
 
     ReflectionOutputs out;
@@ -400,7 +402,6 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     Impl::Composited composited = m.addComposite(graph, in, out, tiles, s, s.temporal ? raw : TextureHandle{});
     out.lit = composited.shown;
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
-    m.addHistory(graph, composited.history, in.gbuffer.depth);
     m.lastSettings = asked;
     ++m.frameIndex;
     return out;
