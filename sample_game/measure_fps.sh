@@ -10,9 +10,21 @@ frames=${1:-200}
 build=$root/${SPECULUM_BUILD_DIR:-build}
 echo "load average: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
 for preset in low medium high; do
-  log=$(MESA_SHADER_CACHE_DIR=$build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
-    "$build/sample_game/speculum-game" --preset "$preset" --frames "$frames" 2>&1 | grep ' fps ')
-  echo "$log" | tail -n +4 | python3 -c "
+  # The whole output is kept: when the game prints no fps line (no device, no surface, a crash),
+  # its own last lines say why, and the script stops there with the game's status.
+  out=$(mktemp)
+  rc=0
+  MESA_SHADER_CACHE_DIR=$build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
+    "$build/sample_game/speculum-game" --preset "$preset" --frames "$frames" >"$out" 2>&1 || rc=$?
+  readings=$(grep ' fps ' "$out" | tail -n +4 || true)
+  if [[ -z $readings ]]; then
+    echo "$preset: no fps readings after warm-up (the game exited with $rc); its last lines:" >&2
+    tail -n 8 "$out" >&2
+    rm -f "$out"
+    exit 1
+  fi
+  rm -f "$out"
+  echo "$readings" | python3 -c "
 import re, statistics, sys
 rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]
 fps = statistics.median(float(r[0]) for r in rows)
