@@ -17,13 +17,12 @@ for preset in low medium high; do
   MESA_SHADER_CACHE_DIR=$build/mesa-cache xvfb-run -a -s "-screen 0 1280x720x24" \
     "$build/sample_game/speculum-game" --preset "$preset" --frames "$frames" >"$out" 2>&1 || rc=$?
   readings=$(grep ' fps ' "$out" | tail -n +4 || true)
+  last=$(tail -n 8 "$out")
+  rm -f "$out"
   if [[ -z $readings ]]; then
-    echo "$preset: no fps readings after warm-up (the game exited with $rc); its last lines:" >&2
-    tail -n 8 "$out" >&2
-    rm -f "$out"
+    printf '%s: no fps readings after warm-up (the game exited with %s); its last lines:\n%s\n' "$preset" "$rc" "$last" >&2
     exit 1
   fi
-  rm -f "$out"
   echo "$readings" | python3 -c "
 import re, statistics, sys
 rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]

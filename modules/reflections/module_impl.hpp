@@ -28,13 +28,14 @@ static_assert(offsetof(FrameUniforms, cmoCount) == 416);
 static_assert(offsetof(FrameUniforms, planarCount) == 448);
 static_assert(sizeof(FrameUniforms) == 464, "std140 layout");
 
-// The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
-// them and knows whether the previous one was written).
-// With reflections.temporal, the accumulated reflection and the normals and roughness it was
-// accumulated on (the temporal pass writes both, no copy).
 // The Hi-Z pyramid's texels: the cell's farthest and closest depth (reversed-Z).
 inline constexpr VkFormat kHiZFormat = VK_FORMAT_R32G32_SFLOAT;
 
+// The previous frame's final lit image and its depth: frame-graph histories (the graph swaps
+// them and knows whether the previous one was written), written in place by the passes that
+// make them (no copy).
+// With reflections.temporal, the accumulated reflection and the normals and roughness it was
+// accumulated on (the temporal pass writes both, no copy).
 struct ReflectionHistory {
     // The lit image with this frame's reflections: reflections.composite writes it in place.
     gpu::HistoryImages color;
@@ -133,7 +134,7 @@ struct Reflections::Impl {
     // s: what the passes run with; asked: the host's settings (a change of them resets the histories).
     void writeUniforms(const ReflectionInputs& in, const ReflectionSettings& s, const ReflectionSettings& asked,
                        uint32_t w, uint32_t h, uint32_t levels);
-    void ensureHistory(uint32_t w, uint32_t h, uint32_t levels, bool refreshImages);
+    void ensureHistory(uint32_t w, uint32_t h, bool refreshImages);
 
     // Passes, in frame order (passes.cpp).
     // The Hi-Z pyramid; `visibility` gets the visibility pyramid with its level 1 written (by the
@@ -210,12 +211,10 @@ struct Reflections::Impl {
     // image. `distance`: the reflected distance at the trace's size (ReflectionOutputs::distance).
     TextureHandle addTemporal(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, TextureHandle reflection,
                               TextureHandle distance);
-    struct Composited {
-        TextureHandle shown;    // the lit image, or the debug view
-        TextureHandle history;  // the lit image with this frame's own reflection, in historyColor.current
-    };
+    // Returns the image shown: the lit image, or the debug view. The lit image with this frame's
+    // own reflection goes into historyColor.current (the same image when they are one).
     // `raw`: with temporal accumulation, this frame's reflection (out.reflection is the accumulated one).
-    Composited addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+    TextureHandle addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
                             const Classified& tiles, const ReflectionSettings& s, TextureHandle raw);
     // `pass`: the lit image copied whole into level 0 of new textures (name, desc), which a tiled
     // pass then overwrites on its tiles only. A transfer: 0.6 ms at 960x540 on lavapipe, where a

@@ -528,9 +528,8 @@ TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionIn
     return d.dst;
 }
 
-Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in,
-                                                              const ReflectionOutputs& out, const Classified& tiles,
-                                                              const ReflectionSettings& s, TextureHandle raw) {
+TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
+                                              const Classified& tiles, const ReflectionSettings& s, TextureHandle raw) {
     const DebugView view = s.debugView;
     const bool separate = view != DebugView::None || raw.valid();
     // Work follows need: with tiles and no debug view (a debug view draws every pixel) the
@@ -606,9 +605,8 @@ Reflections::Impl::Composited Reflections::Impl::addComposite(FrameGraph& g, con
                            {&composite(variant, kListLookup), kListLookup}},
                           pc.extent(data.dst), data.footprint);
         });
-    const TextureHandle history = separate ? d.plain : d.dst;
-    g.markOutput(history);  // nothing reads it this frame: the next frame's reprojection does
-    return {d.dst, history};
+    g.markOutput(separate ? d.plain : d.dst);  // the history: the next frame's reprojection reads it
+    return d.dst;
 }
 
 Reflections::Impl::HistoryReads Reflections::Impl::readHistory(PassBuilder& b, const ReflectionInputs& in,

@@ -184,7 +184,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
 }
 
-void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, uint32_t levels, bool refreshImages) {
+void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, bool refreshImages) {
     constexpr VkImageUsageFlags kRefreshUsage =
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     if (refreshImages && (history.refresh.desc().width != w || history.refresh.desc().height != h)) {
@@ -200,7 +200,8 @@ void Reflections::Impl::ensureHistory(uint32_t w, uint32_t h, uint32_t levels, b
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     history.color = gpu::HistoryImages(ctx, {w, h, render::kLinearFormat, 1, 1, false, kStorageUsage},
                                        "reflections.history.color");
-    history.hiz = gpu::HistoryImages(ctx, {w, h, kHiZFormat, levels, 1, false, kStorageUsage}, "reflections.hiz");
+    history.hiz =
+        gpu::HistoryImages(ctx, {w, h, kHiZFormat, pyramidLevels(w, h), 1, false, kStorageUsage}, "reflections.hiz");
     history.reflection = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
                                             "reflections.history.reflection");
     history.normal = gpu::HistoryImages(ctx, {w, h, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 1, false, kStorageUsage},
@@ -371,7 +372,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     }
     uint32_t w = graph.config().outputWidth, h = graph.config().outputHeight;
     uint32_t levels = pyramidLevels(w, h);
-    m.ensureHistory(w, h, levels, quarter);
+    m.ensureHistory(w, h, quarter);
     m.writeUniforms(in, s, asked, w, h, levels);
 
     ReflectionOutputs out;
@@ -399,8 +400,7 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
     }
     TextureHandle raw = out.reflection;
     if (s.temporal) out.reflection = m.addTemporal(graph, in, out.hiz, out.reflection, out.distance);
-    Impl::Composited composited = m.addComposite(graph, in, out, tiles, s, s.temporal ? raw : TextureHandle{});
-    out.lit = composited.shown;
+    out.lit = m.addComposite(graph, in, out, tiles, s, s.temporal ? raw : TextureHandle{});
     if (hizView) out.hizView = m.addHiZView(graph, out.hiz);
     m.lastSettings = asked;
     ++m.frameIndex;

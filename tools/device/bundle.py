@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """bundle.py OUTDIR BIN...: copies the shared libraries BIN needs into OUTDIR/lib, replacing the
 image-format plugins OIIO links but the benchmarks never call by stubs (stub.py)."""
-import os, re, shutil, subprocess, sys
+import os, re, shutil, subprocess, sys, tempfile
 out, bins = sys.argv[1], sys.argv[2:]
 lib = os.path.join(out, "lib"); os.makedirs(lib, exist_ok=True)
 SYSTEM = {"libc.so.6", "libm.so.6", "libgcc_s.so.1", "ld-linux-x86-64.so.2", "libpthread.so.0", "libdl.so.2", "librt.so.1"}
@@ -25,7 +25,10 @@ while todo:
         stubs.append(n)
     else:
         shutil.copy(path_of(n), os.path.join(lib, n)); todo += needed(path_of(n)); wanted |= undefined(path_of(n))
-open("/tmp/wanted.txt", "w").write("\n".join(sorted(wanted)))
-for n in stubs:
-    subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__), "stub.py"), path_of(n), lib, "/tmp/wanted.txt"], check=True, stdout=subprocess.DEVNULL)
+# Each stub exports only what the copied libraries import from it.
+with tempfile.NamedTemporaryFile("w", suffix=".txt") as f:
+    f.write("\n".join(sorted(wanted))); f.flush()
+    for n in stubs:
+        subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__), "stub.py"), path_of(n), lib, f.name],
+                       check=True, stdout=subprocess.DEVNULL)
 print(len(seen), "libraries")

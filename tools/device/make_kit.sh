@@ -3,7 +3,7 @@
 # kit.tar.xz (speculum-capture, speculum-game, the SPIR-V, the shared libraries they load, Xvfb,
 # xkbcomp, oiiotool and the XKB data) and, in .gl/, Debian's Vulkan loader and glvnd packages.
 # The device machine is Ubuntu with the NVIDIA driver and none of our Debian libraries, and a
-# call carries at most 64 MiB with the tree (31 MiB): OpenImageIO's plugins alone pull 260
+# call carries at most 64 MiB with the tree (31 MiB): OpenImageIO's plugins alone pull 263
 # libraries (360 MB), so the image formats we never open (video, DICOM, OpenVDB, RAW, HEIF,
 # WebP, JPEG 2000, TIFF, GIF, OpenCV) are replaced by stubs (stub.py). See README.md here.
 set -euo pipefail
@@ -11,7 +11,6 @@ cd "$(dirname "$0")/../.."
 B=${SPECULUM_BUILD_DIR:-build}
 K=$(mktemp -d)/kit
 mkdir -p "$K/bin" "$K/xkb" .devkit .gl
-grep -qs '^/.devkit/' .gitignore || echo '/.devkit/' >> .gitignore
 bins=("$B/tools/capture/speculum-capture" "$B/sample_game/speculum-game" /usr/bin/Xvfb /usr/bin/xkbcomp /usr/bin/oiiotool)
 python3 tools/device/bundle.py "$K" "${bins[@]}"
 cp "${bins[@]}" "$K/bin/"

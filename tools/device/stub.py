@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""stub.py LIB OUTDIR: writes OUTDIR/<soname>, a library exporting every dynamic symbol of LIB
-(with its versions) as a trap, so that a binary linked against LIB loads where LIB and its
-dependency tree are absent. Only for libraries whose code is never called at run time."""
-import os, re, subprocess, sys
+"""stub.py LIB OUTDIR [WANTED]: writes OUTDIR/<soname>, a library exporting LIB's dynamic symbols
+(those named in the file WANTED, if given) under their versions, so that a binary linked against
+LIB loads where LIB and its dependency tree are absent. Each function returns a pointer to 64
+zero bytes (OIIO calls its plugins' version functions and reads a string), each object is zeros.
+Only for libraries whose code does nothing the caller needs."""
+import os, re, subprocess, sys, tempfile
 lib, out = sys.argv[1], sys.argv[2]
 wanted = set(open(sys.argv[3]).read().split()) if len(sys.argv) > 3 else None
 soname = re.search(r"SONAME.*\[(.*)\]", subprocess.run(["readelf", "-d", lib], capture_output=True, text=True).stdout).group(1)
@@ -29,11 +31,11 @@ for i, line in enumerate(nm.splitlines()):
         asm.append(f'.symver {label},{base}{"@@@" if default else "@"}{ver}')
     else:
         asm += [f'.globl {base}', f'.set {base},{label}']
-open(f"/tmp/stub_{soname}.s", "w").write("\n".join(asm) + "\n")
-vs = "".join(f"{v} {{ }};\n" for v in sorted(versions)) if versions else ""
-vs += "LOCALS { local: stub_*; };\n" if versions else ""
-open(f"/tmp/stub_{soname}.map", "w").write(vs or "{ local: stub_*; };\n")
-cmd = ["gcc", "-shared", "-nostdlib", f"-Wl,-soname,{soname}", "-o", os.path.join(out, soname), f"/tmp/stub_{soname}.s"]
-cmd += [f"-Wl,--version-script=/tmp/stub_{soname}.map"]
-subprocess.run(cmd, check=True)
+vs = "".join(f"{v} {{ }};\n" for v in sorted(versions)) + "LOCALS { local: stub_*; };\n" if versions else "{ local: stub_*; };\n"
+with tempfile.TemporaryDirectory() as tmp:
+    src, script = os.path.join(tmp, "stub.s"), os.path.join(tmp, "stub.map")
+    open(src, "w").write("\n".join(asm) + "\n")
+    open(script, "w").write(vs)
+    subprocess.run(["gcc", "-shared", "-nostdlib", f"-Wl,-soname,{soname}", "-o", os.path.join(out, soname), src,
+                    f"-Wl,--version-script={script}"], check=True)
 print(soname, os.path.getsize(os.path.join(out, soname)))
