@@ -438,7 +438,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                                    const ReflectionSettings& s, ReflectionOutputs& out) {
     const TextureHandle guideImage = tiles.guide;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, lit, albedo;
         BufferHandle tiles;
         ChainReads chain;
     };
@@ -453,6 +453,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.color = b.read(out.colorPyramid, TextureUsage::Sampled);
+            // Mirror hits are shaded for the ray (resolve.comp, mirrorHit): the hit's lit colour and material.
+            data.lit = b.read(in.lit, TextureUsage::Sampled);
+            data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
             data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
             // At the trace's size (half: the guide's).
             TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
@@ -477,6 +480,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                 .storage("methodOut", pc.view(data.method))
                 .sampled("cmoTex", pc.view(data.cmo), nearest)
                 .storage("distanceOut", pc.view(data.distance))
+                .sampled("litTex", pc.view(data.lit), nearest)
+                .sampled("albedoTex", pc.view(data.albedo), nearest)
+                .sampled("dfgTex", renderer.environment().dfg().view(), renderer.environment().sampler())
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;
             dispatchTiles(pc, w, data.tiles, tiled,

@@ -159,6 +159,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.hizLevels = levels;
     u.debugView = uint32_t(s.debugView);
     u.multiBounce = s.multiBounce ? 1u : 0u;
+    u.hitReflectMaxRoughness = s.hitReflectMaxRoughness;
     u.materialCount = materialCount;
     u.probeCount = s.probes && in.probes.cubes.valid() ? in.probes.count : 0u;
     u.cmoCount = s.cmos && in.probes.cmos.records.valid() ? in.probes.cmos.count : 0u;

@@ -54,6 +54,11 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
         bind<&R::multiBounce>({"reflections.multi_bounce", T::Bool, "", 0, 1, 1, {},
          "Build the colour pyramid from the previous frame's final image reprojected, so "
          "reflections of reflections accumulate over frames."}),
+        bind<&R::hitReflectMaxRoughness>({"reflections.hit_reflect_max_roughness", T::Float, "", 0, 1, 0.3, {},
+         "A screen-space hit on a reflective surface smoother than this is shaded for the reflected "
+         "ray: the surface's lit colour plus its own reflection along the ray reflected again, "
+         "from the probes and the sky (the colour pyramid holds its reflection toward the camera, "
+         "another direction). 0: the colour pyramid's value everywhere."}),
         bind<&R::probes>({"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
          "chain, and planar probes on their planes; off: what screen space leaves goes to the sky."}),

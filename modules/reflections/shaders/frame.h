@@ -74,7 +74,9 @@ SPECULUM_BLOCK(layout(set = 0, binding = 0, std140) readonly buffer, ReflectionF
     // reflections.ray_budget=quarter (modules/reflections/shaders/refresh.comp).
     uint refreshValid;  // the refreshed history and its normals are this frame's previous
     uint cameraMoved;   // the view or projection differs from the previous frame's
-    uint reserved2;     // std140 pads the block to 16 bytes: named so C++ matches it
+    // Screen-space hits on reflective surfaces below this roughness are shaded for the ray
+    // (reflections.hit_reflect_max_roughness; resolve.comp, mirrorHit).
+    float hitReflectMaxRoughness;
 } SPECULUM_BLOCK_INSTANCE(rf);
 
 SPECULUM_SHADER_NAMESPACE_END

@@ -31,6 +31,9 @@ layout(set = 0, binding = 10, rgba16f) uniform writeonly image2D methodOut;
 layout(set = 0, binding = 7) uniform sampler2D guideTex;     // half: guidePixel()
 layout(set = 0, binding = 13) uniform sampler2D cmoTex;      // reflections.cmo_trace: rgb, a first hit distance (0 none)
 layout(set = 0, binding = 14, r32f) uniform writeonly image2D distanceOut;
+layout(set = 0, binding = 19) uniform sampler2D litTex;     // this frame's lit image (mirrorHit)
+layout(set = 0, binding = 20) uniform sampler2D albedoTex;  // rgb base colour, a metallic (mirrorHit)
+layout(set = 0, binding = 21) uniform sampler2D dfgTex;     // linear clamp (mirrorHit)
 // reflections.resolution (1: half): the full pixel the trace chose (the guide,
 // reflections/guide.glsl), written at the invocation's half-resolution position.
 layout(constant_id = 0) const uint kHalf = 0u;
@@ -94,12 +97,71 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
     return total > 1e-4 ? sum / total : first;
 }
 
+// The normal at the hit's sub-pixel position: the four G-buffer normals around it, bilinearly,
+// those of the hit's surface only (within 2% of its distance, within 45 degrees of the nearest
+// pixel's normal `nq`). On a curved mirror the nearest pixel's normal is up to half a pixel
+// off, and a reflection reflected again turns that into an edge a pixel or more off
+// (issue 24, sub-pixel registration).
+vec3 hitNormal(vec3 hit, vec3 nq) {
+    vec2 f = hit.xy - 0.5;
+    ivec2 base = ivec2(floor(f));
+    vec2 w = f - vec2(base);
+    float z = linearDepth(hit.z);
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 o = ivec2(i & 1, i >> 1);
+        ivec2 t = clamp(base + o, ivec2(0), ivec2(rf.size.xy) - 1);
+        vec3 nt = normalize(texelFetch(normalTex, t, 0).xyz);
+        float wt = (o.x != 0 ? w.x : 1.0 - w.x) * (o.y != 0 ? w.y : 1.0 - w.y);
+        bool same = abs(linearDepth(texelFetch(hiz, t, 0).g) - z) <= 0.02 * z && dot(nt, nq) > 0.7;
+        sum += same ? wt * nt : vec3(0.0);
+    }
+    return dot(sum, sum) > 1e-8 ? normalize(sum) : nq;
+}
+
+// A screen-space hit on a mirror: the colour pyramid holds the mirror as the camera saw it, its
+// reflection toward the camera, but the ray needs its reflection toward the reflecting point, in
+// another direction. Where the hit surface reflects with a roughness below
+// rf.hitReflectMaxRoughness, it is shaded for the ray as the composite shades a pixel: its lit
+// colour (this frame's, without environment specular) plus its reflection along the ray
+// reflected again, from the probes and the sky, times its F0 A + B. The converged reference
+// traces that second bounce; on cornell_mirrors.main the pyramid's value was 72% of the mirror
+// band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24). The
+// lights' highlights stay where the camera saw them (the CMO trace moves them; here they are
+// small next to the reflection). Without a local probe in the chain the second bounce would be
+// the sky alone: right outdoors, but indoors the pyramid's view of the room is closer (the
+// gallery with probes off: gross errors on 40.8% of its reflective pixels against 40.0%), and
+// the chain cannot tell the two apart, so there the pyramid's value stays. Returns false where
+// the hit is no such mirror.
+bool mirrorHit(vec3 hit, vec3 p, out vec3 radiance) {
+    radiance = vec3(0.0);
+    if (rf.probeCount == 0u) return false;
+    ivec2 q = clamp(ivec2(hit.xy), ivec2(0), ivec2(rf.size.xy) - 1);
+    float qDepth;
+    vec4 qNormalRough;
+    PixelMaterial qm = readSurface(hiz, normalTex, emissiveTex, q, qDepth, qNormalRough);
+    if (!(qDepth > 0.0 && qm.reflective && qm.roughness < rf.hitReflectMaxRoughness)) return false;
+    vec3 hp = worldAt(hit.xy, hit.z);
+    vec3 d = normalize(hp - p);
+    vec3 qn = hitNormal(hit, normalize(qNormalRough.xyz));
+    float NoV = dot(qn, -d);
+    if (!(NoV > 0.0)) return false;  // the hit's back: keep the pyramid's value
+    vec4 probe;
+    float proxyDistance;
+    vec3 again = probesAndSky(hp, qn, reflect(d, qn), qm.roughness, probe, proxyDistance);
+    vec4 albedo = texelFetch(albedoTex, q, 0);
+    vec2 dfg = textureLod(dfgTex, vec2(NoV, qm.roughness), 0.0).rg;
+    radiance = texelFetch(litTex, q, 0).rgb + again * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);
+    return finite3(radiance);
+}
+
 // Stochastic glossy: the screen-space radiance of this pixel's lobe from its own ray and its four
 // neighbours' (Stachowiak 2015's ray reuse). Each hit is weighed by this pixel's BRDF times
 // cosine toward it over the pdf with which the neighbour drew its ray (recomputed from the
 // neighbour's noise, reflections/stochastic.glsl), a ratio estimator whose weights also count the
 // rays that missed: `coverage` is the hits' share of the weight, as a cone's visibility is.
-// Neighbours on another surface (normal off by 25 degrees, roughness by 0.1) are not reused.
+// Neighbours on another surface (normal off by 25 degrees, roughness by 0.1) are not reused. A
+// hit on a mirror is shaded for its ray (mirrorHit), each ray being a sharp one.
 vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out float coverage,
                        out float hitDistance) {
     const ivec2 kReuse[5] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
@@ -131,7 +193,9 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
         if (isHit) {
             float d = distance(hp, p);
             float wf = w * edgeFade(hit.xy) * distanceFade(d) * cameraFade(dot(l, v));
-            sum += wf * textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            vec3 c;
+            if (!mirrorHit(hit.xyz, p, c)) c = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            sum += wf * c;
             wHit += wf;
             distSum += wf * d;
         }
@@ -189,6 +253,13 @@ void main() {
             hitDistance = distance(worldAt(hit.xy, hit.z), p);
             float accumulated;
             screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
+            // A mirror hit replaces the cone's colour where the cone is narrow at the hit (its
+            // largest incircle at most a pixel), fading out by 2 px: a wider cone reads the
+            // pyramid's mips around the hit, which a single re-reflection does not stand for.
+            float hitRadius = incircleRadius(2.0 * coneTan(m.roughness) * length(hit.xy - px), length(hit.xy - px));
+            vec3 again;
+            if (hitRadius < 2.0 && mirrorHit(hit.xyz, p, again))
+                screen = mix(screen, again, clamp(2.0 - hitRadius, 0.0, 1.0));
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
                           distanceFade(hitDistance) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);

@@ -68,6 +68,7 @@ struct ReflectionSettings {
     float distanceFadeStart;
     float distanceFadeEnd;
     bool multiBounce;
+    float hitReflectMaxRoughness;  // screen-space hits on mirrors: shaded for the ray (resolve.comp)
     bool probes;  // local probes in the fallback chain (off: screen space, then the sky)
     bool cmos;    // CMOs in the chain, before the local probes
     CmoTraceMode cmoTrace;
