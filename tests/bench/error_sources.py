@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Where a view's mirror-band error comes from (issue 24): the share of its squared error by the
+method that answered each pixel, and for screen-space pixels by what the hit landed on.
+
+    error_sources.py --capture BIN --view SCENE.CAMERA [--set KEY=VALUE]... [--out DIR] [--blocks N]
+
+It captures the view at its converged reference's size (assets/references, tests/reference/README.md)
+with the reflection, method, roughness and hit AOVs after 8 warm-up frames, and scores the mirror
+band as the bench does (reflective in the reference, reflection roughness below 0.3, converged
+pixels only, clamped after the scene's exposure). Classes: the method whose weight is above one
+half (`ssr`, `cmo`, `probe` for local and planar probes, `env` for the sky, else `mix`), and for
+`ssr` the surface at the hit pixel: `hit-mirror` (reflective, roughness below 0.3: a mirror seen in
+a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`. The N 32x30 blocks with the most
+error close the table. This is how the mirror hits' 72% of cornell_mirrors.main's error was found
+(modules/reflections/MEASUREMENTS.md)."""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SOURCE = HERE.parents[1]
+sys.path.insert(0, str(HERE.parent / "capture"))
+from stripes_test import load  # noqa: E402
+
+MIRROR = 0.3
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--capture", required=True)
+    ap.add_argument("--view", required=True, help="SCENE.CAMERA with a converged reference")
+    ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--out")
+    ap.add_argument("--blocks", type=int, default=6)
+    a = ap.parse_args()
+    scene, camera = a.view.split(".", 1)
+    refs = sorted((SOURCE / "assets" / "references").glob(f"{scene}.{camera}.*"))
+    if not refs:
+        sys.exit(f"error_sources.py: no converged reference for {a.view} in assets/references")
+    ref_dir = refs[0]
+    info = json.loads((ref_dir / "reference.json").read_text())
+    w, h, scale = info["width"], info["height"], info["exposure"]
+    out = Path(a.out or tempfile.mkdtemp(prefix="error-sources-"))
+    cmd = [a.capture, "--scene", str(SOURCE / "assets" / "scenes" / f"{scene}.gltf"), "--camera", camera,
+           "--size", f"{w}x{h}", "--warmup", "8", "--aov", "reflection,method,roughness,hit", "--out", str(out)]
+    for kv in a.set:
+        cmd += ["--set", kv]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"error_sources.py: capture failed ({r.returncode}): {r.stderr.strip()[-400:]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        T, M, G, H = (load(str(out / f"{n}.0000.exr"), tmp)[2] for n in ("reflection", "method", "roughness", "hit"))
+        R, K, E = (load(str(ref_dir / f"{n}.0000.exr"), tmp)[2] for n in ("reflection", "reflective", "stderror"))
+    first = lambda img: img[next(iter(img))]
+    rough, refl, err = first(G), first(K), first(E)
+    clamp = lambda v: min(max(v * scale, 0.0), 1.0)
+    classes, blocks, total = {}, {}, [0.0, 0]
+
+    def add(table, key, se):
+        c = table.setdefault(key, [0.0, 0])
+        c[0] += se
+        c[1] += 1
+
+    for y in range(h):
+        for x in range(w):
+            if refl[y][x] <= 0.5 or rough[y][x] >= MIRROR or err[y][x] * scale > 0.01:
+                continue
+            se = sum((clamp(T[c][y][x]) - clamp(R[c][y][x])) ** 2 for c in "RGB") / 3
+            m = [M[c][y][x] for c in "RGBA"]
+            key = ("ssr" if m[0] > 0.5 else "cmo" if m[3] > 0.5 else "probe" if m[1] > 0.5
+                   else "env" if m[2] > 0.5 else "mix")
+            if key == "ssr":
+                hx, hy = int(H["R"][y][x]), int(H["G"][y][x])
+                if 0 <= hx < w and 0 <= hy < h and refl[hy][hx] > 0.5:
+                    key += " hit-mirror" if rough[hy][hx] < MIRROR else " hit-glossy"
+                else:
+                    key += " hit-diffuse"
+            add(classes, key, se)
+            add(blocks, (x // 32, y // 30), se)
+            total[0] += se
+            total[1] += 1
+    if not total[1]:
+        sys.exit(f"error_sources.py: {a.view} has no converged mirror-band pixels")
+    db = lambda s, n: 10 * math.log10(n / s) if s > 0 else float("inf")
+    print(f"{a.view} {' '.join(a.set)}: mirror band {db(*total):.2f} dB on {total[1]} px (capture in {out})")
+    print("| class | pixels | share of squared error | PSNR dB |\n|---|---|---|---|")
+    for k, (s, n) in sorted(classes.items(), key=lambda kv: -kv[1][0]):
+        print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} |")
+    print(f"\nblocks (32x30) with the most error:")
+    for (bx, by), (s, n) in sorted(blocks.items(), key=lambda kv: -kv[1][0])[:a.blocks]:
+        print(f"  x {bx * 32}-{bx * 32 + 31}, y {by * 30}-{by * 30 + 29}: {n} px, {100 * s / total[0]:.1f}%")
+
+
+if __name__ == "__main__":
+    main()
