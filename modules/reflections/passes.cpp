@@ -438,7 +438,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                                    const ReflectionSettings& s, ReflectionOutputs& out) {
     const TextureHandle guideImage = tiles.guide;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, lit, albedo;
+        TextureHandle hiz, normal, emissive, hit, color, guide, reflection, method, distance, cmo, lit, albedo, shadow;
         BufferHandle tiles;
         ChainReads chain;
     };
@@ -456,6 +456,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
             // Mirror hits are shaded for the ray (resolve.comp, mirrorHit): the hit's lit colour and material.
             data.lit = b.read(in.lit, TextureUsage::Sampled);
             data.albedo = b.read(in.gbuffer.albedo, TextureUsage::Sampled);
+            // Without a directional light there is no mask (unread then: the normals in its place).
+            data.shadow = b.read(in.gbuffer.shadowMask.valid() ? in.gbuffer.shadowMask : in.gbuffer.normal,
+                                 TextureUsage::Sampled);
             data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
             // At the trace's size (half: the guide's).
             TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
@@ -483,6 +486,7 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                 .sampled("litTex", pc.view(data.lit), nearest)
                 .sampled("albedoTex", pc.view(data.albedo), nearest)
                 .sampled("dfgTex", renderer.environment().dfg().view(), renderer.environment().sampler())
+                .sampled("shadowMaskTex", pc.view(data.shadow), nearest)
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;
             dispatchTiles(pc, w, data.tiles, tiled,

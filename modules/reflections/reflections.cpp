@@ -267,9 +267,15 @@ const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolut
 
 const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode) {
     std::optional<gpu::Pipeline>& p = resolves.at((size_t(resolution) * 2 + size_t(glossy)) * kTileModes + tileMode);
-    if (!p)
+    if (!p) {
+        // The scene's lights (ids 0-287: mirror hits move their highlights), then ids 300 and 301.
+        std::vector<uint32_t> constants = renderer.lightingConstants();
+        constants.resize(302, 0u);
+        constants[300] = uint32_t(resolution);
+        constants[301] = uint32_t(glossy);
         p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", 0, "reflections.resolve",
-                                       withTileMode({uint32_t(resolution), uint32_t(glossy)}, tileMode));
+                                       withTileMode(std::move(constants), tileMode));
+    }
     return *p;
 }
 

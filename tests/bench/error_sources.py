@@ -2,12 +2,12 @@
 """Where a view's mirror-band error comes from (issue 24): the share of its squared error by the
 method that answered each pixel, and for screen-space pixels by what the hit landed on.
 
-    error_sources.py --capture BIN --view SCENE.CAMERA [--set KEY=VALUE]... [--out DIR] [--blocks N]
+    error_sources.py --capture BIN --view SCENE.CAMERA [--scene FILE] [--set KEY=VALUE]... [--out DIR] [--blocks N]
 
 It captures the view at its converged reference's size (assets/references, tests/reference/README.md)
-with the reflection, method, roughness and hit AOVs after 8 warm-up frames, and scores the mirror
-band as the bench does (reflective in the reference, reflection roughness below 0.3, converged
-pixels only, clamped after the scene's exposure). Classes: the method whose weight is above one
+with the reflection, method and hit AOVs after 8 warm-up frames, and scores the mirror band as
+the bench does (reflective in the reference, the reference's reflection roughness below 0.3,
+converged pixels only, clamped after the scene's exposure). Classes: the method whose weight is above one
 half (`ssr`, `cmo`, `probe` for local and planar probes, `env` for the sky, else `mix`), and for
 `ssr` the surface at the hit pixel: `hit-mirror` (reflective, roughness below 0.3: a mirror seen in
 a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`. The N 32x30 blocks with the most
@@ -34,6 +34,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--capture", required=True)
     ap.add_argument("--view", required=True, help="SCENE.CAMERA with a converged reference")
+    ap.add_argument("--scene", help="the scene file to capture (default assets/scenes/SCENE.gltf): a variant of the "
+                    "view's scene, say with other probes, scored against the same reference")
     ap.add_argument("--set", action="append", default=[])
     ap.add_argument("--out")
     ap.add_argument("--blocks", type=int, default=6)
@@ -46,16 +48,17 @@ def main():
     info = json.loads((ref_dir / "reference.json").read_text())
     w, h, scale = info["width"], info["height"], info["exposure"]
     out = Path(a.out or tempfile.mkdtemp(prefix="error-sources-"))
-    cmd = [a.capture, "--scene", str(SOURCE / "assets" / "scenes" / f"{scene}.gltf"), "--camera", camera,
-           "--size", f"{w}x{h}", "--warmup", "8", "--aov", "reflection,method,roughness,hit", "--out", str(out)]
+    cmd = [a.capture, "--scene", a.scene or str(SOURCE / "assets" / "scenes" / f"{scene}.gltf"), "--camera", camera,
+           "--size", f"{w}x{h}", "--warmup", "8", "--aov", "reflection,method,hit", "--out", str(out)]
     for kv in a.set:
         cmd += ["--set", kv]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"error_sources.py: capture failed ({r.returncode}): {r.stderr.strip()[-400:]}")
     with tempfile.TemporaryDirectory() as tmp:
-        T, M, G, H = (load(str(out / f"{n}.0000.exr"), tmp)[2] for n in ("reflection", "method", "roughness", "hit"))
-        R, K, E = (load(str(ref_dir / f"{n}.0000.exr"), tmp)[2] for n in ("reflection", "reflective", "stderror"))
+        T, M, H = (load(str(out / f"{n}.0000.exr"), tmp)[2] for n in ("reflection", "method", "hit"))
+        R, K, E, G = (load(str(ref_dir / f"{n}.0000.exr"), tmp)[2]
+                      for n in ("reflection", "reflective", "stderror", "roughness"))
     first = lambda img: img[next(iter(img))]
     rough, refl, err = first(G), first(K), first(E)
     clamp = lambda v: min(max(v * scale, 0.0), 1.0)

@@ -10,6 +10,7 @@
 #include "engine/scene_lights.glsl"
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
+#include "reflections/shaders/relight.glsl"
 #define CMO_RECORDS_BINDING 7
 #define CMO_DISTANCE_BINDING 8
 #define CMO_LAYERS_BINDING 9
@@ -42,7 +43,7 @@ layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=lin
 
 // The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
 // CMO's own direction), with the lights' direct terms moved to the reflected ray's direction
-// (the diffuse parts cancel; the specular highlight moves with the viewer). Glossy rays read
+// (relight.glsl). Glossy rays read
 // the radiance mips at the cone's footprint `cone` (world width at the hit).
 vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out vec3 n, out vec3 f0) {
     vec3 u = hp - c.center.xyz;
@@ -56,22 +57,7 @@ vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out v
     float sun = lit.a - (mirror ? 2.0 : 0.0);
     n = normalize(nr.xyz);
     f0 = specularF0(albedo.rgb, albedo.a);
-    vec3 vNew = -dir;
-    vec3 vCmo = normalize(-u);
-    vec3 delta = vec3(0.0);
-    uint i = 0u;
-    for (; i < kDirectionalLights; ++i) {
-        GpuLight light = sceneLight(i);
-        vec3 l = -light.directionRange.xyz;
-        vec3 f = evalBRDFCos(n, vNew, l, albedo.rgb, albedo.a, nr.w) - evalBRDFCos(n, vCmo, l, albedo.rgb, albedo.a, nr.w);
-        delta += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sun : 1.0);
-    }
-    for (; i < kLights; ++i) {
-        vec3 l;
-        vec3 radiance = incidentRadiance(sceneLight(i), hp, l);
-        delta += (evalBRDFCos(n, vNew, l, albedo.rgb, albedo.a, nr.w) - evalBRDFCos(n, vCmo, l, albedo.rgb, albedo.a, nr.w)) *
-                 radiance;
-    }
+    vec3 delta = movedDirect(hp, n, -dir, normalize(-u), albedo.rgb, albedo.a, nr.w, sun);
     // Filtered at the refined hit's direction, a mirror's too (mip 0 is bilinear): the hit's
     // place is continuous (cmoRefine), and the texel it falls in (nearest) put an edge of the room
     // a texel off: mirror_floor's floor reflected the ceiling where the wall's top 3 mm lay

@@ -7,9 +7,12 @@
 // size. Each sample weighs by the pre-integrated visibility there and by how far its sphere
 // reaches behind the Hi-Z cell's closest surface, until the weights add up to one.
 #include "common/brdf.glsl"
+#include "engine/lighting_common.glsl"
+#include "engine/scene_lights.glsl"
 #include "reflections/shaders/common.glsl"
 #include "reflections/shaders/material.glsl"
 #include "reflections/shaders/stochastic.glsl"
+#include "reflections/shaders/relight.glsl"
 #define PROBES_BUFFER_BINDING 11
 #define PROBES_CUBES_BINDING 12
 #include "probes/shaders/probes.glsl"
@@ -34,12 +37,13 @@ layout(set = 0, binding = 14, r32f) uniform writeonly image2D distanceOut;
 layout(set = 0, binding = 19) uniform sampler2D litTex;     // this frame's lit image (mirrorHit)
 layout(set = 0, binding = 20) uniform sampler2D albedoTex;  // rgb base colour, a metallic (mirrorHit)
 layout(set = 0, binding = 21) uniform sampler2D dfgTex;     // linear clamp (mirrorHit)
+layout(set = 0, binding = 22) uniform sampler2D shadowMaskTex;  // the shadowed sun's visibility (mirrorHit)
 // reflections.resolution (1: half): the full pixel the trace chose (the guide,
 // reflections/guide.glsl), written at the invocation's half-resolution position.
-layout(constant_id = 0) const uint kHalf = 0u;
+layout(constant_id = 300) const uint kHalf = 0u;
 // reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
 // samples instead of a cone.
-layout(constant_id = 1) const uint kStochastic = 0u;
+layout(constant_id = 301) const uint kStochastic = 0u;
 // Tile lists (reflections.classify): kListResolveRay runs all of it, kListLookup (no pixel with a
 // screen-space ray: its hits all read "not traced") compiles the screen-space term out, and
 // kListResolveFill writes what a pixel that reflects nothing gets.
@@ -124,11 +128,10 @@ vec3 hitNormal(vec3 hit, vec3 nq) {
 // another direction. Where the hit surface reflects with a roughness below
 // rf.hitReflectMaxRoughness, it is shaded for the ray as the composite shades a pixel: its lit
 // colour (this frame's, without environment specular) plus its reflection along the ray
-// reflected again, from the probes and the sky, times its F0 A + B. The converged reference
-// traces that second bounce; on cornell_mirrors.main the pyramid's value was 72% of the mirror
-// band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24). The
-// lights' highlights stay where the camera saw them (the CMO trace moves them; here they are
-// small next to the reflection). Without a local probe in the chain the second bounce would be
+// reflected again, from the probes and the sky, times its F0 A + B, with the lights' highlights
+// moved from the camera's view to the ray's (relight.glsl, as the CMO trace does). The converged
+// reference traces that second bounce; on cornell_mirrors.main the pyramid's value was 72% of
+// the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24). Without a local probe in the chain the second bounce would be
 // the sky alone: right outdoors, but indoors the pyramid's view of the room is closer (the
 // gallery with probes off: gross errors on 40.8% of its reflective pixels against 40.0%), and
 // the chain cannot tell the two apart, so there the pyramid's value stays. Returns false where
@@ -151,7 +154,10 @@ bool mirrorHit(vec3 hit, vec3 p, out vec3 radiance) {
     vec3 again = probesAndSky(hp, qn, reflect(d, qn), qm.roughness, probe, proxyDistance);
     vec4 albedo = texelFetch(albedoTex, q, 0);
     vec2 dfg = textureLod(dfgTex, vec2(NoV, qm.roughness), 0.0).rg;
-    radiance = texelFetch(litTex, q, 0).rgb + again * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);
+    float sun = kDirectionalLights > 0u ? texelFetch(shadowMaskTex, q, 0).r : 1.0;
+    vec3 moved = movedDirect(hp, qn, -d, normalize(rfm.eye - hp), albedo.rgb, albedo.a, qNormalRough.w, sun);
+    radiance = max(texelFetch(litTex, q, 0).rgb + moved, vec3(0.0)) +
+               again * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);
     return finite3(radiance);
 }
 
