@@ -7,20 +7,24 @@
 #ifndef SPECULUM_REFLECTIONS_RELIGHT_GLSL
 #define SPECULUM_REFLECTIONS_RELIGHT_GLSL
 
+// The BRDF times cosine toward light direction l, seen from vNew less seen from vOld.
+vec3 movedBRDFCos(vec3 n, vec3 vNew, vec3 vOld, vec3 l, vec3 baseColor, float metallic, float roughness) {
+    return evalBRDFCos(n, vNew, l, baseColor, metallic, roughness) -
+           evalBRDFCos(n, vOld, l, baseColor, metallic, roughness);
+}
+
 vec3 movedDirect(vec3 hp, vec3 n, vec3 vNew, vec3 vOld, vec3 baseColor, float metallic, float roughness, float sun) {
     vec3 delta = vec3(0.0);
     uint i = 0u;
     for (; i < kDirectionalLights; ++i) {
         GpuLight light = sceneLight(i);
-        vec3 l = -light.directionRange.xyz;
-        vec3 f = evalBRDFCos(n, vNew, l, baseColor, metallic, roughness) - evalBRDFCos(n, vOld, l, baseColor, metallic, roughness);
+        vec3 f = movedBRDFCos(n, vNew, vOld, -light.directionRange.xyz, baseColor, metallic, roughness);
         delta += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sun : 1.0);
     }
     for (; i < kLights; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(sceneLight(i), hp, l);
-        delta += (evalBRDFCos(n, vNew, l, baseColor, metallic, roughness) - evalBRDFCos(n, vOld, l, baseColor, metallic, roughness)) *
-                 radiance;
+        delta += movedBRDFCos(n, vNew, vOld, l, baseColor, metallic, roughness) * radiance;
     }
     return delta;
 }

@@ -37,7 +37,7 @@ layout(set = 0, binding = 14, r32f) uniform writeonly image2D distanceOut;
 layout(set = 0, binding = 19) uniform sampler2D litTex;     // this frame's lit image (mirrorHit)
 layout(set = 0, binding = 20) uniform sampler2D albedoTex;  // rgb base colour, a metallic (mirrorHit)
 layout(set = 0, binding = 21) uniform sampler2D dfgTex;     // linear clamp (mirrorHit)
-layout(set = 0, binding = 22) uniform sampler2D shadowMaskTex;  // the shadowed sun's visibility (mirrorHit)
+layout(set = 0, binding = 22) uniform sampler2D shadowMaskTex;  // sun visibility (mirrorHit)
 // reflections.resolution (1: half): the full pixel the trace chose (the guide,
 // reflections/guide.glsl), written at the invocation's half-resolution position.
 layout(constant_id = 300) const uint kHalf = 0u;
@@ -131,11 +131,11 @@ vec3 hitNormal(vec3 hit, vec3 nq) {
 // reflected again, from the probes and the sky, times its F0 A + B, with the lights' highlights
 // moved from the camera's view to the ray's (relight.glsl, as the CMO trace does). The converged
 // reference traces that second bounce; on cornell_mirrors.main the pyramid's value was 72% of
-// the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24). Without a local probe in the chain the second bounce would be
-// the sky alone: right outdoors, but indoors the pyramid's view of the room is closer (the
-// gallery with probes off: gross errors on 40.8% of its reflective pixels against 40.0%), and
-// the chain cannot tell the two apart, so there the pyramid's value stays. Returns false where
-// the hit is no such mirror.
+// the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24).
+// Without a local probe in the chain the second bounce would be the sky alone: right outdoors,
+// but indoors the pyramid's view of the room is closer (the gallery with probes off: gross errors
+// on 40.8% of its reflective pixels against 40.0%), and the chain cannot tell the two apart, so
+// there the pyramid's value stays. Returns false where the hit is no such mirror.
 bool mirrorHit(vec3 hit, vec3 p, out vec3 radiance) {
     radiance = vec3(0.0);
     if (rf.probeCount == 0u) return false;
@@ -262,7 +262,8 @@ void main() {
             // A mirror hit replaces the cone's colour where the cone is narrow at the hit (its
             // largest incircle at most a pixel), fading out by 2 px: a wider cone reads the
             // pyramid's mips around the hit, which a single re-reflection does not stand for.
-            float hitRadius = incircleRadius(2.0 * coneTan(m.roughness) * length(hit.xy - px), length(hit.xy - px));
+            float toHit = length(hit.xy - px);
+            float hitRadius = incircleRadius(2.0 * coneTan(m.roughness) * toHit, toHit);
             vec3 again;
             if (hitRadius < 2.0 && mirrorHit(hit.xyz, p, again))
                 screen = mix(screen, again, clamp(2.0 - hitRadius, 0.0, 1.0));
