@@ -63,43 +63,37 @@ void main() {
     vec3 p = worldAt(vec2(pixel) + 0.5, depth);
     ivec2 halfSize = (size + 1) >> 1;
     float invDist = 1.0 / max(distance(p, rfm.eye), 1e-6);
-    vec4 result = vec4(0.0);
-    bool upsampled = false;
+    bool validS = false, moving = false;
+    vec4 h = vec4(0.0);
+    ivec2 prevSPixel = ivec2(0);
     if (rf.refreshValid != 0u) {
         vec2 uv = (vec2(pixel) + 0.5) * rf.size.zw;
         vec2 prevS;
-        ivec2 prevSPixel;
-        bool validS = surfaceHistory(pixel, p, n, m.roughness, prevS, prevSPixel);
-        vec3 h = validS ? texelFetch(historyTex, prevSPixel, 0).rgb : vec3(0.0);
+        validS = surfaceHistory(pixel, p, n, m.roughness, prevS, prevSPixel);
+        if (validS) h = texelFetch(historyTex, prevSPixel, 0);
         // Moving: the camera (beyond rounding) or this pixel's surface (its motion vector).
-        bool moving = rf.cameraMoved != 0u || any(greaterThan(abs(prevS - uv) * rf.size.xy, vec2(0.01)));
-        if (validS && moving) {
-            // The reflected point's previous position for sharp surfaces (temporal.comp's rule).
-            float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
-            ivec2 prevVPixel;
-            if (sharp > 0.0 && reflectedHistory(p, texelFetch(distanceTex, halfPixel, 0).r, n, m.roughness, prevVPixel))
-                h = mix(h, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
-            // Clipped to the box of this pixel's upsampled value and the four half-size samples
-            // around it.
-            result = bilateralUpsample(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist);
-            upsampled = true;
-            vec3 lo = result.rgb, hi = result.rgb;
-            ivec2 base = ivec2(floor((vec2(pixel) + 0.5) * 0.5 - 0.5));
-            for (int i = 0; i < 4; ++i) {
-                vec3 c = texelFetch(halfTex, clamp(base + ivec2(i & 1, i >> 1), ivec2(0), halfSize - 1), 0).rgb;
-                lo = min(lo, c);
-                hi = max(hi, c);
-            }
-            h = clamp(h, lo, hi);
-        }
-        if (validS && finite3(h)) {
-            // Alpha (the coverage debug view's) comes with the colour: the history's when still.
-            if (!upsampled) result.a = texelFetch(historyTex, prevSPixel, 0).a;
-            result.rgb = max(h, vec3(0.0));
-            upsampled = true;
-        }
+        moving = rf.cameraMoved != 0u || any(greaterThan(abs(prevS - uv) * rf.size.xy, vec2(0.01)));
     }
-    if (!upsampled) result = bilateralUpsample(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist);
+    // Still with a history: the history as it is (alpha, the coverage debug view's, with it).
+    // Otherwise the upsampled value, which a moving pixel's history is then clipped to. One call
+    // site, which also returns the four half-size samples' box: the clip used to fetch them again
+    // and the fallback inlined a second upsampling (lavapipe pays for both sides of a branch its
+    // lanes split on; MEASUREMENTS.md, issue 23, 2026-12-06).
+    bool still = validS && !moving && finite3(h.rgb);
+    vec4 result = vec4(max(h.rgb, vec3(0.0)), h.a);
+    vec3 lo, hi;
+    if (!still) result = bilateralUpsampleBox(guideTex, halfTex, halfSize, pixel, p, n, normalRough.w, invDist, lo, hi);
+    if (validS && moving) {
+        // The reflected point's previous position for sharp surfaces (temporal.comp's rule).
+        float sharp = 1.0 - smoothstep(0.05, 0.35, m.roughness);
+        ivec2 prevVPixel;
+        if (sharp > 0.0 && reflectedHistory(p, texelFetch(distanceTex, halfPixel, 0).r, n, m.roughness, prevVPixel))
+            h.rgb = mix(h.rgb, texelFetch(historyTex, prevVPixel, 0).rgb, sharp);
+        // Clipped to the box of this pixel's upsampled value and the four half-size samples
+        // around it.
+        vec3 clipped = clamp(h.rgb, min(lo, result.rgb), max(hi, result.rgb));
+        if (finite3(clipped)) result.rgb = max(clipped, vec3(0.0));
+    }
     imageStore(refreshedOut, pixel, result);
     imageStore(normalOut, pixel, vec4(n, m.roughness));
 }

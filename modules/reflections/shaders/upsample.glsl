@@ -5,8 +5,10 @@
 #ifndef SPECULUM_REFLECTIONS_UPSAMPLE_GLSL
 #define SPECULUM_REFLECTIONS_UPSAMPLE_GLSL
 
-vec4 bilateralUpsample(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec2 pixel, vec3 p, vec3 n,
-                       float roughness, float invDist) {
+// Also returns the per-channel box (lo, hi) of the four low-resolution samples it weighed, which
+// reflections.refresh clips a moving pixel's history to: the same four texels, fetched once.
+vec4 bilateralUpsampleBox(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec2 pixel, vec3 p, vec3 n,
+                          float roughness, float invDist, out vec3 lo, out vec3 hi) {
     // The low-resolution grid: sample i sits at full position 2 i + 1 (its 2x2's centre).
     vec2 lowPos = (vec2(pixel) + 0.5) * 0.5 - 0.5;
     ivec2 base = ivec2(floor(lowPos));
@@ -35,7 +37,10 @@ vec4 bilateralUpsample(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec
         float agree = others / (1.0 + plane * 100.0);
         vec2 b = mix(1.0 - f, f, vec2(o));
         float w = b.x * b.y * max(1.0 - plane * 50.0, 0.0) * others;
-        sum += w * texelFetch(lowTex, s, 0);
+        vec4 c4 = texelFetch(lowTex, s, 0);
+        lo = i == 0 ? c4.rgb : min(lo, c4.rgb);
+        hi = i == 0 ? c4.rgb : max(hi, c4.rgb);
+        sum += w * c4;
         total += w;
         if (agree > bestAgree) {
             bestAgree = agree;
@@ -43,6 +48,12 @@ vec4 bilateralUpsample(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec
         }
     }
     return total > 1e-6 ? sum / total : texelFetch(lowTex, bestSample, 0);
+}
+
+vec4 bilateralUpsample(sampler2D guideTex, sampler2D lowTex, ivec2 lowSize, ivec2 pixel, vec3 p, vec3 n,
+                       float roughness, float invDist) {
+    vec3 lo, hi;
+    return bilateralUpsampleBox(guideTex, lowTex, lowSize, pixel, p, n, roughness, invDist, lo, hi);
 }
 
 #endif
