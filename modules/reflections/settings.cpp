@@ -58,7 +58,9 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "A screen-space hit on a reflective surface smoother than this is shaded for the reflected "
          "ray: the surface's lit colour plus its own reflection along the ray reflected again, "
          "from the probes and the sky (the colour pyramid holds its reflection toward the camera, "
-         "another direction). 0: the colour pyramid's value everywhere."}),
+         "another direction), and a CMO hit on a reflective metal smoother than this reflects again "
+         "through the CMOs (up to cmo_bounces: what the CMO captured of it faced its centre). 0: the "
+         "colour pyramid's and the CMO's captured value everywhere."}),
         bind<&R::probes>({"reflections.probes", T::Bool, "", 0, 1, 1, {},
          "Local cubemap probes (modules/probes) between screen space and the sky in the fallback "
          "chain, and planar probes on their planes; off: what screen space leaves goes to the sky."}),
@@ -82,7 +84,8 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "CMO tracing: the length of a traced ray; beyond it the ray is a miss (local probes, sky)."}),
         bind<&R::cmoBounces>({"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
          "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
-         "mirrorForSelfReflections) reflects again, up to this many times."}),
+         "mirrorForSelfReflections), or on a reflective metal smoother than hit_reflect_max_roughness, "
+         "reflects again, up to this many times."}),
         bind<&R::cmoPassBehind>({"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
          "A ray every CMO leaves unresolved (it passed behind a surface the CMOs cannot see past): "
          "down the chain to the local probes, or traced once more through the first CMO as if it "

@@ -22,9 +22,18 @@ layout(set = 0, binding = CMO_RECORDS_BINDING, std430) readonly buffer CmoBuffer
     CmoRecord cmos[];
 };
 layout(set = 0, binding = CMO_DISTANCE_BINDING) uniform sampler2DArray cmoDistance;  // min, max
-layout(set = 0, binding = CMO_LAYERS_BINDING) uniform sampler2DArray cmoLayers;      // rgb lit, a sun | mirror
+layout(set = 0, binding = CMO_LAYERS_BINDING) uniform sampler2DArray cmoLayers;      // rgb lit, a cmoUnpackFlags
 layout(set = 0, binding = CMO_ATTR_BINDING) uniform sampler2DArray cmoAttr;          // xyz normal, w roughness
 layout(set = 0, binding = CMO_ALBEDO_BINDING) uniform sampler2DArray cmoAlbedo;      // rgb base colour, a metallic
+
+// A texel's alpha in cmoLayers (probes.cmo_store): the sun's visibility (0-1) + 2 if its material
+// is mirror-masked (SPECULUM_reflections mirrorForSelfReflections) + 4 if it is reflective.
+void cmoUnpackFlags(float a, out float sun, out bool mirror, out bool reflective) {
+    reflective = a >= 3.5;
+    a -= reflective ? 4.0 : 0.0;
+    mirror = a >= 1.5;
+    sun = a - (mirror ? 2.0 : 0.0);
+}
 
 // Vulkan's cube faces (+X, -X, +Y, -Y, +Z, -Z): major axis M, s axis S, t axis T; face
 // coordinate s = dot(u, S) / dot(u, M), likewise t, both in [-1, 1]; texel (x, y) of a layer

@@ -2,8 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // probes.cmo_store: one face of a CMO from its capture (the renderer's passes and
 // probes.capture_bounce at the CMO's resolution) into the CMO arrays, rows flipped as every cube
-// face is stored (probes::faceCamera): the lit radiance with the sun's visibility and the mirror
-// mask in alpha (visibility + 2 * mirror), the world distance to the CMO's centre (level 0 of
+// face is stored (probes::faceCamera): the lit radiance with the sun's visibility, the mirror
+// mask and the reflective flag in alpha (visibility + 2 * mirror + 4 * reflective: cmo.glsl's
+// cmoUnpackFlags), the world distance to the CMO's centre (level 0 of
 // the min/max hierarchy, both channels; the sky at SPECULUM_CMO_SKY_DISTANCE), and the
 // attributes reflections.cmo_trace shades a hit with for the reflected ray's direction.
 #include "common/camera.glsl"
@@ -44,9 +45,11 @@ void main() {
         d = length(p - pc.center.xyz);
     }
     uint material = min(flags >> 2u, max(pc.info.y, 1u) - 1u);
-    bool isMirror = depth > 0.0 && (flags & 2u) != 0u && (flags & 1u) == 0u && mirror[material] > 0.5;
+    bool reflective = depth > 0.0 && (flags & 2u) != 0u && (flags & 1u) == 0u;
+    bool isMirror = reflective && mirror[material] > 0.5;
     float sun = mix(1.0, texelFetch(shadowMask, pixel, 0).r, float(min(pc.info.z, 1u)));
-    imageStore(outRadiance, texel, vec4(texelFetch(faceTex, pixel, 0).rgb, sun + (isMirror ? 2.0 : 0.0)));
+    imageStore(outRadiance, texel,
+               vec4(texelFetch(faceTex, pixel, 0).rgb, sun + (isMirror ? 2.0 : 0.0) + (reflective ? 4.0 : 0.0)));
     imageStore(outDistance, texel, vec4(d, d, 0.0, 0.0));
     imageStore(outAttr, texel, texelFetch(normalTex, pixel, 0));
     imageStore(outAlbedo, texel, texelFetch(albedoTex, pixel, 0));

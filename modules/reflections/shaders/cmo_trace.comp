@@ -44,7 +44,15 @@ layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=lin
 // The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
 // CMO's own direction), with the lights' direct terms moved to the reflected ray's direction
 // (relight.glsl). Glossy rays read
-// the radiance mips at the cone's footprint `cone` (world width at the hit).
+// the radiance mips at the cone's footprint `cone` (world width at the hit). `mirror`: the hit
+// reflects again (main's self-reflection loop) where its material is mirror-masked, or where it
+// is a reflective metal smoother than reflections.hit_reflect_max_roughness. A metal's radiance
+// is all reflection, so what the CMO captured of it (its reflection toward the CMO's centre) says
+// nothing about the ray's direction: screen space's mirror hits had the same error (resolve.comp,
+// mirrorHit). A dielectric's radiance is mostly its own diffuse light, which the capture holds
+// and a ray reflected again would drop, so it keeps the captured value. Treating cornell_mirrors'
+// unmasked chrome this way scored sphere_close 18.04 -> 18.70 dB and blob_close 19.05 -> 20.25
+// in the mirror band (MEASUREMENTS.md, issue 24, 2026-12-06).
 vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out vec3 n, out vec3 f0) {
     vec3 u = hp - c.center.xyz;
     ivec3 texel = cmoTexel(c, u);
@@ -53,8 +61,10 @@ vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out v
     vec4 lit = texelFetch(cmoLayers, at, base);
     vec4 nr = texelFetch(cmoAttr, at, base);
     vec4 albedo = texelFetch(cmoAlbedo, at, base);
-    mirror = lit.a >= 1.5;
-    float sun = lit.a - (mirror ? 2.0 : 0.0);
+    float sun;
+    bool masked, reflective;
+    cmoUnpackFlags(lit.a, sun, masked, reflective);
+    mirror = masked || (reflective && albedo.a >= 0.5 && nr.w < rf.hitReflectMaxRoughness);
     n = normalize(nr.xyz);
     f0 = specularF0(albedo.rgb, albedo.a);
     vec3 delta = movedDirect(hp, n, -dir, normalize(-u), albedo.rgb, albedo.a, nr.w, sun);
