@@ -32,6 +32,7 @@ layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: guidePixel
 layout(set = 0, binding = 12) uniform samplerCubeArray cmoRadiance;  // trilinear: glossy footprints
 layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D cmoOut;
 layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D infoOut;
+#include "reflections/shaders/mirror_hit.glsl"
 
 // Ids above the scene lights' (0-287, scene_lights.glsl).
 layout(constant_id = 300) const uint kHalf = 0u;    // reflections.resolution=half
@@ -97,17 +98,26 @@ void main() {
     vec3 v = normalize(p - rfm.eye);
     vec3 n = normalize(normalRough.xyz);
     vec3 r = reflect(v, n);
-    // Not for pixels a planar probe serves (reflections.resolve takes its image there).
-    // reflections.trace listed this tile only if some pixel of it passes this test.
-    if (inCmoBand(depth, m, planarServes(depth, m, p, n)) && !screenCovers(texelFetch(hitTex, out_, 0), p, r, v, m)) {
+    // The pixel's own ray where screen space leaves some of it (not for pixels a planar probe
+    // serves: reflections.resolve takes its image there); else, where screen space covers it and
+    // its hit is a mirror, that hit's ray reflected again (mirror_hit.glsl: resolve's mirrorHit
+    // takes it, alpha -1, instead of the local probes' answer). reflections.trace listed this tile
+    // only if some pixel of it passes one of these tests.
+    vec4 hit = texelFetch(hitTex, out_, 0);
+    bool covered = depth > 0.0 && m.reflective && screenCovers(hit, p, r, v, m);
+    MirrorHit h;
+    bool second = false;
+    bool first = inCmoBand(depth, m, planarServes(depth, m, p, n)) && !covered;
+    if (!first && covered) second = secondBounceInCmos(covered, vec2(pixel) + 0.5, hit, p, m.roughness, true, h);
+    if (first || second) {
         int iterations = 0;
         int maxIterations = int(rf.cmoMaxIterations);
         int maxBounces = int(rf.cmoBounces);
-        float coneSlope = 2.0 * coneTan(m.roughness);
+        float coneSlope = 2.0 * coneTan(second ? max(m.roughness, h.m.roughness) : m.roughness);
         vec3 throughput = vec3(1.0);
         vec3 fallback = vec3(0.0);  // a mirror's own captured radiance, if its next ray is not found
-        vec3 origin = p, normal = n, dir = r;
-        float travelled = 0.0;
+        vec3 origin = second ? h.position : p, normal = second ? h.n : n, dir = second ? reflect(h.d, h.n) : r;
+        float travelled = second ? distance(p, h.position) : 0.0;
         for (int bounce = 0; bounce <= maxBounces; ++bounce) {
             int found = -1;
             float tHit = 0.0;
@@ -135,7 +145,7 @@ void main() {
                 unresolved = unresolved || status == kCmoUnresolved;
             }
             if (found < 0) {
-                if (bounce == 0) info.z = unresolved ? 2.0 : 0.0;
+                if (bounce == 0 && !second) info.z = unresolved ? 2.0 : 0.0;
                 else result = vec4(fallback, result.a);
                 break;
             }
@@ -143,9 +153,9 @@ void main() {
             vec3 hp = origin + dir * tHit;
             travelled += tHit;
             if (bounce == 0) {
-                result.a = max(tHit, 1e-3);
-                info.y = float(found + 1);
-                info.z = 1.0;
+                result.a = second ? -1.0 : max(tHit, 1e-3);
+                info.y = second ? 0.0 : float(found + 1);
+                info.z = second ? 0.0 : 1.0;
             }
             bool mirror;
             vec3 hn, f0;
@@ -159,7 +169,7 @@ void main() {
                 if (bounce == 0) {
                     result.a = 0.0;
                     info.y = 0.0;
-                    info.z = 2.0;
+                    info.z = second ? 0.0 : 2.0;
                 } else {
                     result = vec4(fallback, result.a);
                 }

@@ -38,6 +38,7 @@ layout(set = 0, binding = 19) uniform sampler2D litTex;     // this frame's lit 
 layout(set = 0, binding = 20) uniform sampler2D albedoTex;  // rgb base colour, a metallic (mirrorHit)
 layout(set = 0, binding = 21) uniform sampler2D dfgTex;     // linear clamp (mirrorHit)
 layout(set = 0, binding = 22) uniform sampler2D shadowMaskTex;  // sun visibility (mirrorHit)
+#include "reflections/shaders/mirror_hit.glsl"
 // reflections.resolution (1: half): the full pixel the trace chose (the guide,
 // reflections/guide.glsl), written at the invocation's half-resolution position.
 layout(constant_id = 300) const uint kHalf = 0u;
@@ -53,11 +54,6 @@ layout(constant_id = 301) const uint kStochastic = 0u;
 // when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
 // kSkyDistance (common.glsl: a direction) when the sky does; 0: unknown (reproject by the
 // surface); see main.
-
-float incircleRadius(float base, float height) {
-    if (height <= 0.0 || base <= 0.0) return 0.0;
-    return base * (sqrt(base * base + 4.0 * height * height) - base) / (4.0 * height);
-}
 
 // Returns the cone's colour; `accumulated` is its summed visibility weight (at most 1).
 vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out float accumulated) {
@@ -101,62 +97,28 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
     return total > 1e-4 ? sum / total : first;
 }
 
-// The normal at the hit's sub-pixel position: the four G-buffer normals around it, bilinearly,
-// those of the hit's surface only (within 2% of its distance, within 45 degrees of the nearest
-// pixel's normal `nq`). On a curved mirror the nearest pixel's normal is up to half a pixel
-// off, and a reflection reflected again turns that into an edge a pixel or more off
-// (issue 24, sub-pixel registration).
-vec3 hitNormal(vec3 hit, vec3 nq) {
-    vec2 f = hit.xy - 0.5;
-    ivec2 base = ivec2(floor(f));
-    vec2 w = f - vec2(base);
-    float z = linearDepth(hit.z);
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 o = ivec2(i & 1, i >> 1);
-        ivec2 t = clamp(base + o, ivec2(0), ivec2(rf.size.xy) - 1);
-        vec3 nt = normalize(texelFetch(normalTex, t, 0).xyz);
-        float wt = (o.x != 0 ? w.x : 1.0 - w.x) * (o.y != 0 ? w.y : 1.0 - w.y);
-        bool same = abs(linearDepth(texelFetch(hiz, t, 0).g) - z) <= 0.02 * z && dot(nt, nq) > 0.7;
-        sum += same ? wt * nt : vec3(0.0);
-    }
-    return dot(sum, sum) > 1e-8 ? normalize(sum) : nq;
-}
-
-// A screen-space hit on a mirror: the colour pyramid holds the mirror as the camera saw it, its
-// reflection toward the camera, but the ray needs its reflection toward the reflecting point, in
-// another direction. Where the hit surface reflects with a roughness below
-// rf.hitReflectMaxRoughness, it is shaded for the ray as the composite shades a pixel: its lit
-// colour (this frame's, without environment specular) plus its reflection along the ray
-// reflected again, from the probes and the sky, times its F0 A + B, with the lights' highlights
-// moved from the camera's view to the ray's (relight.glsl, as the CMO trace does). The converged
-// reference traces that second bounce; on cornell_mirrors.main the pyramid's value was 72% of
-// the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md, issue 24).
-// Without a local probe in the chain the second bounce would be the sky alone: right outdoors,
-// but indoors the pyramid's view of the room is closer (the gallery with probes off: gross errors
-// on 40.8% of its reflective pixels against 40.0%), and the chain cannot tell the two apart, so
-// there the pyramid's value stays. Returns false where the hit is no such mirror.
-bool mirrorHit(vec3 hit, vec3 p, out vec3 radiance) {
+// A screen-space hit on a mirror (mirror_hit.glsl's findMirrorHit), shaded for the ray as the
+// composite shades a pixel: its lit colour (this frame's, without environment specular) plus its
+// reflection along the ray reflected again, times its F0 A + B, with the lights' highlights moved
+// from the camera's view to the ray's (relight.glsl, as the CMO trace does). That second bounce is
+// what reflections.cmo_trace found for it (`second`, alpha -1: a CMO hit) or else the local probes
+// and the sky. The converged reference traces it; on cornell_mirrors.main the pyramid's value was
+// 72% of the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md,
+// issue 24). Returns false where the hit is no such mirror (the pyramid's value stays).
+bool mirrorHit(vec3 hit, vec3 p, vec4 second, out vec3 radiance) {
     radiance = vec3(0.0);
-    if (rf.probeCount == 0u) return false;
-    ivec2 q = clamp(ivec2(hit.xy), ivec2(0), ivec2(rf.size.xy) - 1);
-    float qDepth;
-    vec4 qNormalRough;
-    PixelMaterial qm = readSurface(hiz, normalTex, emissiveTex, q, qDepth, qNormalRough);
-    if (!(qDepth > 0.0 && qm.reflective && qm.roughness < rf.hitReflectMaxRoughness)) return false;
-    vec3 hp = worldAt(hit.xy, hit.z);
-    vec3 d = normalize(hp - p);
-    vec3 qn = hitNormal(hit, normalize(qNormalRough.xyz));
-    float NoV = dot(qn, -d);
-    if (!(NoV > 0.0)) return false;  // the hit's back: keep the pyramid's value
+    MirrorHit h;
+    if (!findMirrorHit(hit, p, true, h)) return false;
     vec4 probe;
     float proxyDistance;
-    vec3 again = probesAndSky(hp, qn, reflect(d, qn), qm.roughness, probe, proxyDistance);
-    vec4 albedo = texelFetch(albedoTex, q, 0);
-    vec2 dfg = textureLod(dfgTex, vec2(NoV, qm.roughness), 0.0).rg;
-    float sun = kDirectionalLights > 0u ? texelFetch(shadowMaskTex, q, 0).r : 1.0;
-    vec3 moved = movedDirect(hp, qn, -d, normalize(rfm.eye - hp), albedo.rgb, albedo.a, qNormalRough.w, sun);
-    radiance = max(texelFetch(litTex, q, 0).rgb + moved, vec3(0.0)) +
+    vec3 again = second.a < 0.0 ? second.rgb
+                                : probesAndSky(h.position, h.n, reflect(h.d, h.n), h.m.roughness, probe, proxyDistance);
+    vec4 albedo = texelFetch(albedoTex, h.q, 0);
+    vec2 dfg = textureLod(dfgTex, vec2(dot(h.n, -h.d), h.m.roughness), 0.0).rg;
+    float sun = kDirectionalLights > 0u ? texelFetch(shadowMaskTex, h.q, 0).r : 1.0;
+    vec3 moved = movedDirect(h.position, h.n, -h.d, normalize(rfm.eye - h.position), albedo.rgb, albedo.a,
+                             h.normalRough.w, sun);
+    radiance = max(texelFetch(litTex, h.q, 0).rgb + moved, vec3(0.0)) +
                again * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);
     return finite3(radiance);
 }
@@ -200,7 +162,7 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
             float d = distance(hp, p);
             float wf = w * edgeFade(hit.xy) * distanceFade(d) * cameraFade(dot(l, v));
             vec3 c;
-            if (!mirrorHit(hit.xyz, p, c)) c = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            if (!mirrorHit(hit.xyz, p, vec4(0.0), c)) c = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
             sum += wf * c;
             wHit += wf;
             distSum += wf * d;
@@ -259,14 +221,11 @@ void main() {
             hitDistance = distance(worldAt(hit.xy, hit.z), p);
             float accumulated;
             screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
-            // A mirror hit replaces the cone's colour where the cone is narrow at the hit (its
-            // largest incircle at most a pixel), fading out by 2 px: a wider cone reads the
-            // pyramid's mips around the hit, which a single re-reflection does not stand for.
-            float toHit = length(hit.xy - px);
-            float hitRadius = incircleRadius(2.0 * coneTan(m.roughness) * toHit, toHit);
+            // A mirror hit replaces the cone's colour where the cone is narrow at the hit.
+            float share = mirrorHitShare(px, hit.xy, m.roughness);
             vec3 again;
-            if (hitRadius < 2.0 && mirrorHit(hit.xyz, p, again))
-                screen = mix(screen, again, clamp(2.0 - hitRadius, 0.0, 1.0));
+            if (share > 0.0 && mirrorHit(hit.xyz, p, rf.cmoCount > 0u ? texelFetch(cmoTex, out_, 0) : vec4(0.0), again))
+                screen = mix(screen, again, share);
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
                           distanceFade(hitDistance) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);

@@ -27,6 +27,7 @@ layout(set = 0, binding = 1) uniform sampler2D hiz;         // rg32f, all levels
 layout(set = 0, binding = 2) uniform sampler2D normalTex;   // xyz normal, w roughness
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex; // a: flags | material index
 layout(set = 0, binding = 5, rgba32f) uniform writeonly image2D hitOut;
+#include "reflections/shaders/mirror_hit.glsl"  // the CMO list's second bounces
 // reflections.trace (TraceMode: 0 hiz, 1 linear) as a specialization constant: lavapipe would
 // otherwise run the other tracer's loops once per pixel too.
 layout(constant_id = 0) const uint kTraceMode = 0u;
@@ -371,7 +372,10 @@ void main() {
             }
         }
         imageStore(hitOut, out_, result);
-        cmo = inCmoBand(depth, m, planar) && !screenCovers(result, p, mirror, v, m);
+        bool covered = screenCovers(result, p, mirror, v, m);
+        MirrorHit h;
+        cmo = (inCmoBand(depth, m, planar) && !covered) ||
+              (depth > 0.0 && m.reflective && secondBounceInCmos(covered, px, result, p, m.roughness, false, h));
     }
     if (kTileMode != kTileModeWork) return;
     // The tile's CMO list (cmo_trace.comp runs the same test per pixel).
