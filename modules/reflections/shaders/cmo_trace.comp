@@ -1,10 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// reflections.cmo_trace: the part of each reflected ray that screen space leaves uncovered,
-// traced through the CMOs in their order (modules/probes/shaders/cmo.glsl: the hierarchical or the
-// linear tracer), a hit shaded for the reflected ray's direction, and self-reflections: a hit
-// on a mirror-masked surface reflects again, up to reflections.cmo_bounces, each ray with its
-// own start where it leaves the surface (cmoLeaveSurface). The resolve takes the result as the chain's second link.
+// reflections.cmo_trace: the part of each reflected ray that screen space leaves uncovered (and,
+// where it covers a pixel whole with a hit on a mirror, that hit's ray reflected again:
+// mirror_hit.glsl), traced through the CMOs in their order (modules/probes/shaders/cmo.glsl:
+// the hierarchical or the linear tracer), a hit shaded for the reflected ray's direction, and
+// self-reflections: a hit on a mirror (shadeHit) reflects again, up to reflections.cmo_bounces,
+// each ray with its own start where it leaves the surface (cmoLeaveSurface). The resolve takes
+// the result as the chain's second link.
 #include "common/brdf.glsl"
 #include "engine/lighting_common.glsl"
 #include "engine/scene_lights.glsl"
@@ -104,11 +106,10 @@ void main() {
     // takes it, alpha -1, instead of the local probes' answer). reflections.trace listed this tile
     // only if some pixel of it passes one of these tests.
     vec4 hit = texelFetch(hitTex, out_, 0);
-    bool covered = depth > 0.0 && m.reflective && screenCovers(hit, p, r, v, m);
+    bool covered = screenCovers(hit, p, r, v, m);  // false where nothing was traced (hit.z <= 0)
     MirrorHit h;
-    bool second = false;
     bool first = inCmoBand(depth, m, planarServes(depth, m, p, n)) && !covered;
-    if (!first && covered) second = secondBounceInCmos(covered, vec2(pixel) + 0.5, hit, p, m.roughness, true, h);
+    bool second = !first && secondBounceInCmos(covered, vec2(pixel) + 0.5, hit, p, m.roughness, true, h);
     if (first || second) {
         int iterations = 0;
         int maxIterations = int(rf.cmoMaxIterations);

@@ -78,7 +78,6 @@ bool findMirrorHit(vec3 hit, vec3 p, bool withNormal, out MirrorHit h) {
     return dot(h.n, -h.d) > 0.0;
 }
 
-
 // Whether reflections.cmo_trace traces the second bounce of this pixel's screen-space hit: screen
 // space covers the pixel whole (where it does not, the CMOs trace the pixel's own ray instead),
 // the cone is narrow enough at the hit for resolve's mirrorHit, and the hit is such a mirror whose

@@ -374,8 +374,7 @@ void main() {
         imageStore(hitOut, out_, result);
         bool covered = screenCovers(result, p, mirror, v, m);
         MirrorHit h;
-        cmo = (inCmoBand(depth, m, planar) && !covered) ||
-              (depth > 0.0 && m.reflective && secondBounceInCmos(covered, px, result, p, m.roughness, false, h));
+        cmo = (inCmoBand(depth, m, planar) && !covered) || secondBounceInCmos(covered, px, result, p, m.roughness, false, h);
     }
     if (kTileMode != kTileModeWork) return;
     // The tile's CMO list (cmo_trace.comp runs the same test per pixel).
