@@ -22,6 +22,13 @@ const SettingFields<ProbeSettings>& ProbeSettings::fields() {
          "images (the reflection lags the camera by up to this less one frame). low.json has 2: "
          "the editor's interactive frames at 330x256 spend 12 of about 75 ms on lavapipe "
          "rendering gallery's floor probe."}),
+        bind<&P::autoProbe>({"probes.auto_probe", T::Bool, "", 0, 1, 1, {},
+         "A scene without a local cubemap probe of its own (a plain export; CMOs and planar "
+         "probes do not count: they sit above the local probes in the chain) gets one box probe "
+         "fitted to its bounds, baked once at load, so that its metals reflect its own floor and "
+         "walls rather than the sky's ground (plain_metals' mirror band 19.1 -> 22.8 dB, "
+         "modules/probes/MEASUREMENTS.md). Never saved into the scene; a placed local probe "
+         "replaces it."}),
         bind<&P::debugView>({"probes.debug_view", T::Enum, "", 0, 2, 0, {"none", "influence", "winner"},
          "Replace the image with the probes' blend (each probe's colour times its share, the sky "
          "dark blue) or the probe with the largest share."}),

@@ -42,6 +42,7 @@ struct ProbeSettings {
     int prefilterSamples;  // GGX samples per texel of the rough mips
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     int planarInterval;    // planar probes render every this many frames (renderPlanar)
+    bool autoProbe;        // an unconfigured scene gets a box probe fitted to its bounds
     DebugView debugView;
 };
 
@@ -125,6 +126,13 @@ bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t w
 void sortForBlending(std::vector<ProbeInfo>& probes);
 // The record of a probe node (world transform, shape, extents, blend distance).
 ProbeInfo describeProbe(const Scene& scene, int node);
+// The record of a probe at `world` (its centre and axes) that no node carries (node -1).
+ProbeInfo describeProbe(const ReflectionProbe& probe, const glm::mat4& world, std::string name);
+// probes.auto_probe: whether `scene` has no local cubemap probe of its own (a plain export, or
+// one with only CMOs or planar probes, which sit above the local probes in the chain) and has
+// bounds to fit one to, and then the box probe fitted to it (autoProbe's comment says how).
+bool wantsAutoProbe(const Scene& scene);
+ProbeInfo autoProbe(const Scene& scene);
 // A probe's camera for cube face `face` (+X, -X, +Y, -Y, +Z, -Z), 90 degrees: the image's
 // columns follow the Vulkan face's s axis and its rows the face's t axis after a vertical flip
 // (the capture stores each face flipped: see capture.cpp).
