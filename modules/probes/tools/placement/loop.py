@@ -40,11 +40,14 @@ class Search:
         self.gains = {}
 
     def record(self, action, detail, cmos, r, accepted, prev):
+        """`accepted` None: a trial judged after its rivals (add), which says which it kept."""
         self.step_no += 1
         step_no = self.step_no
         delta = "" if prev is None else f" ({r['mean'] - prev:+.1f})"
+        verdict = "" if accepted or accepted is None else " (rejected)"
         self.log(f"placement: step {step_no}/{max(self.planned, step_no)} {action} {detail}: {r['mean']:.1f} dB"
-                 f"{delta}, {r['ms']:.0f} ms{'' if accepted else ' (rejected)'}")
+                 f"{delta}, {r['ms']:.0f} ms{verdict}")
+        accepted = bool(accepted)
         self.steps.append({"step": step_no, "action": action, "detail": detail, "count": len(cmos),
                            "planar": len(self.meas.planars),
                            "resolutions": [c["res"] for c in cmos], "cmos": config_entry(cmos),
@@ -91,12 +94,13 @@ class Search:
             if not pool:
                 self.log("placement: no candidate left to add")
                 break
-            best, best_r, best_step = None, None, None
+            best, best_r, best_step, tried = None, None, None, 0
             for cand in pool:
+                tried += 1
                 trial = with_orders(current + [dict(cand, res=top)])
                 r = meas.measure(trial)
                 st = self.record("add", f"cmo at {fmt_pos(cand['pos'])} {top} px (candidate {cand['rank']})", trial,
-                                 r, False, cur["mean"])
+                                 r, None, cur["mean"])
                 if best_r is None or r["mean"] > best_r["mean"]:
                     best, best_r, best_step = trial, r, st
                 if self.meets(r):
@@ -105,6 +109,8 @@ class Search:
                 self.log(f"placement: no candidate improves on {cur['mean']:.2f} dB; stopping at {len(current)} CMOs")
                 break
             best_step["accepted"] = True
+            self.log(f"placement: kept step {best_step['step']} ({best_r['mean'] - cur['mean']:+.2f} dB), "
+                     f"the best of {tried} tried")
             self.current, self.cur = best, best_r
             self.move_newest()
 

@@ -20,7 +20,7 @@ def write_report(args, report):
     write_atomic(j, text=json.dumps(report, indent=2) + "\n")
     views = report["views"]
     lines = ["# speculum-probes place", "",
-             f"Scene `{report['scene']}`, views {', '.join(views)} at {report['size']}, reference {report['spp']} spp; "
+             f"Scene `{report['scene']}`, views {', '.join(views)} at {report['size']}, reference {report.get('reference') or str(report['spp']) + ' spp'}; "
              f"budget: mean PSNR >= {report['budget_db']:g} dB; CMO kind `{report['kind']}`; "
              f"{'met' if report['met'] else 'NOT met'} with {report['final']['count']} CMO(s), "
              f"{report['final']['mean_psnr_db']:.2f} dB (baseline {report['baseline']['mean_psnr_db']:.2f} dB); "
