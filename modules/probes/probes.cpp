@@ -4,12 +4,12 @@
 
 #include "speculum/app/output.hpp"
 #include "speculum/core.hpp"
+#include "speculum/render/frustum.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -65,20 +65,15 @@ bool wantsAutoProbe(const Scene& scene) {
 
 namespace {
 
-// The world bounds of every primitive of every instance (its local box's eight corners).
+// The world bounds of every primitive of every instance (empty ones have none, as in the
+// scene's own bounds).
 std::vector<std::pair<glm::vec3, glm::vec3>> primitiveBounds(const Scene& scene) {
     std::vector<std::pair<glm::vec3, glm::vec3>> out;
     for (const Instance& inst : scene.instances)
         for (const Primitive& prim : scene.meshes.at(size_t(inst.mesh)).primitives) {
-            glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-            for (int c = 0; c < 8; ++c) {
-                const glm::vec3 local((c & 1) ? prim.boundsMax.x : prim.boundsMin.x,
-                                      (c & 2) ? prim.boundsMax.y : prim.boundsMin.y,
-                                      (c & 4) ? prim.boundsMax.z : prim.boundsMin.z);
-                const glm::vec3 w(inst.world * glm::vec4(local, 1.0f));
-                lo = glm::min(lo, w);
-                hi = glm::max(hi, w);
-            }
+            if (prim.vertices.empty()) continue;
+            glm::vec3 lo, hi;
+            render::transformBox(inst.world, prim.boundsMin, prim.boundsMax, lo, hi);
             out.emplace_back(lo, hi);
         }
     return out;

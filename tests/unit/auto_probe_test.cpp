@@ -9,8 +9,12 @@
 namespace speculum::probes {
 namespace {
 
+// A primitive with two vertices at its bounds' corners (an empty one has no bounds).
 Primitive box(glm::vec3 lo, glm::vec3 hi) {
     Primitive p;
+    p.vertices.resize(2);
+    p.vertices[0].position = lo;
+    p.vertices[1].position = hi;
     p.boundsMin = lo;
     p.boundsMax = hi;
     return p;
