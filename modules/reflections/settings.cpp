@@ -82,10 +82,12 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "behind it and the next CMO is asked."}),
         bind<&R::cmoMaxDistance>({"reflections.cmo_max_distance", T::Float, "m", 0.1, 10000, 60, {},
          "CMO tracing: the length of a traced ray; beyond it the ray is a miss (local probes, sky)."}),
-        bind<&R::cmoBounces>({"reflections.cmo_bounces", T::Int, "", 0, 8, 2, {},
+        bind<&R::cmoBounces>({"reflections.cmo_bounces", T::Int, "", 0, 8, 1, {},
          "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
          "mirrorForSelfReflections), or on a reflective metal smoother than hit_reflect_max_roughness, "
-         "reflects again, up to this many times."}),
+         "reflects again, up to this many times. 1: a second self-reflection scored the bench's "
+         "mirror band 0.04 dB higher (gallery.floor_grazing +0.32, the rest within 0.05) for 15% of "
+         "the CMO trace; raise it for facing mirrors (modules/reflections/MEASUREMENTS.md, 2026-12-06)."}),
         bind<&R::cmoPassBehind>({"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
          "A ray every CMO leaves unresolved (it passed behind a surface the CMOs cannot see past): "
          "down the chain to the local probes, or traced once more through the first CMO as if it "

@@ -3,7 +3,7 @@
 
     cmo_test.py TOOLS... --check nested|highlight|curved --out DIR --cache DIR
 
-nested     mirror_hall.facing, screen space off: with cmo_bounces (the table's default) the
+nested     mirror_hall.facing, screen space off: with cmo_bounces=2 (thresholds.json "with") the
            nested reflections between the two facing mirrors are closer to a reference rendered
            with enough bounces than with cmo_bounces=0, by at least min_gain_db on the mirrors.
 highlight  mirror_hall.highlight_a and _b: the ball behind the camera, seen only in the mirror

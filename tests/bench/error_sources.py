@@ -62,6 +62,8 @@ def main():
         R, K, E, G = (load(str(ref_dir / f"{n}.0000.exr"), tmp)[2]
                       for n in ("reflection", "reflective", "stderror", "roughness"))
     first = lambda img: img[next(iter(img))]
+    # At half resolution the hit AOV is the trace's (half) size; its hits are in full pixels.
+    hitShift = 1 if len(H["R"]) < h else 0
     rough, refl, err = first(G), first(K), first(E)
     clamp = lambda v: min(max(v * scale, 0.0), 1.0)
     classes, blocks, total = {}, {}, [0.0, 0]
@@ -81,7 +83,7 @@ def main():
             key = ("ssr" if m[0] > 0.5 else "cmo" if m[3] > 0.5 else "probe" if m[1] > 0.5
                    else "env" if m[2] > 0.5 else "mix")
             if key == "ssr":
-                hx, hy = int(H["R"][y][x]), int(H["G"][y][x])
+                hx, hy = int(H["R"][y >> hitShift][x >> hitShift]), int(H["G"][y >> hitShift][x >> hitShift])
                 if 0 <= hx < w and 0 <= hy < h and refl[hy][hx] > 0.5:
                     key += " hit-mirror" if rough[hy][hx] < MIRROR else " hit-glossy"
                 else:
