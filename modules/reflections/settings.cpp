@@ -86,7 +86,7 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "CMO self-reflections: a hit on a mirror-masked material (SPECULUM_reflections "
          "mirrorForSelfReflections), or on a reflective metal smoother than hit_reflect_max_roughness, "
          "reflects again, up to this many times. 1: a second self-reflection scored the bench's "
-         "mirror band 0.04 dB higher (gallery.floor_grazing +0.32, the rest within 0.05) for 15% of "
+         "mirror band 0.03 dB higher (gallery.floor_grazing +0.33, the rest within 0.06) for 3-11% of "
          "the CMO trace; raise it for facing mirrors (modules/reflections/MEASUREMENTS.md, 2026-12-06)."}),
         bind<&R::cmoPassBehind>({"reflections.cmo_unresolved", T::Enum, "", 0, 1, 0, {"probes", "pass_behind"},
          "A ray every CMO leaves unresolved (it passed behind a surface the CMOs cannot see past): "
