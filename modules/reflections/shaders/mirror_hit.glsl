@@ -78,16 +78,6 @@ bool findMirrorHit(vec3 hit, vec3 p, bool withNormal, out MirrorHit h) {
     return dot(h.n, -h.d) > 0.0;
 }
 
-// A hit on such a mirror whose sub-pixel normal faces away from the ray: the ray passed behind the
-// mirror's silhouette (a floor's ray under a sphere meets the sphere's unseen underside), and the
-// pyramid there holds the mirror's front, not what the ray meets.
-bool mirrorSeenFromBehind(vec3 hit, vec3 p) {
-    MirrorHit h;
-    if (!findMirrorHit(hit, p, false, h)) return false;
-    vec3 d = normalize(worldAt(hit.xy, hit.z) - p);
-    return dot(hitNormal(hit, normalize(h.normalRough.xyz)), -d) <= 0.0;
-}
-
 // Whether reflections.cmo_trace traces the second bounce of this pixel's screen-space hit: screen
 // space covers the pixel whole (where it does not, the CMOs trace the pixel's own ray instead),
 // the cone is narrow enough at the hit for resolve's mirrorHit, and the hit is such a mirror whose

@@ -104,11 +104,16 @@ vec3 coneTrace(vec2 start, float startDepth, vec3 hit, float roughness, out floa
 // what reflections.cmo_trace found for it (`second`, alpha -1: a CMO hit) or else the local probes
 // and the sky. The converged reference traces it; on cornell_mirrors.main the pyramid's value was
 // 72% of the mirror band's squared error on 12% of its pixels (9.8 dB there; MEASUREMENTS.md,
-// issue 24). Returns false where the hit is no such mirror (the pyramid's value stays).
-bool mirrorHit(vec3 hit, vec3 p, vec4 second, out vec3 radiance) {
+// issue 24). Returns false where the hit is no such mirror (the pyramid's value stays);
+// `behind`: it is such a mirror seen from behind (its sub-pixel normal faces away from the ray:
+// the ray passed behind its silhouette, a floor's ray under a sphere meeting its unseen underside).
+bool mirrorHit(vec3 hit, vec3 p, vec4 second, out vec3 radiance, out bool behind) {
     radiance = vec3(0.0);
     MirrorHit h;
-    if (!findMirrorHit(hit, p, true, h)) return false;
+    bool found = findMirrorHit(hit, p, true, h);
+    // findMirrorHit sets the ray's direction only once the material qualifies.
+    behind = !found && dot(h.d, h.d) > 0.0 && dot(h.n, -h.d) <= 0.0;
+    if (!found) return false;
     vec4 probe;
     float proxyDistance;
     vec3 again = second.a < 0.0 ? second.rgb
@@ -162,7 +167,8 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
             float d = distance(hp, p);
             float wf = w * edgeFade(hit.xy) * distanceFade(d) * cameraFade(dot(l, v));
             vec3 c;
-            if (!mirrorHit(hit.xyz, p, vec4(0.0), c)) c = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
+            bool unused;
+            if (!mirrorHit(hit.xyz, p, vec4(0.0), c, unused)) c = textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb;
             sum += wf * c;
             wHit += wf;
             distSum += wf * d;
@@ -225,10 +231,8 @@ void main() {
             float share = mirrorHitShare(px, hit.xy, m.roughness);
             vec3 again;
             bool behind = false;
-            if (share > 0.0 && mirrorHit(hit.xyz, p, rf.cmoCount > 0u ? texelFetch(cmoTex, out_, 0) : vec4(0.0), again))
+            if (share > 0.0 && mirrorHit(hit.xyz, p, rf.cmoCount > 0u ? texelFetch(cmoTex, out_, 0) : vec4(0.0), again, behind))
                 screen = mix(screen, again, share);
-            else if (share > 0.0 && rf.multiBounce == 0u)
-                behind = mirrorSeenFromBehind(hit.xyz, p);
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
                           distanceFade(hitDistance) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
@@ -238,7 +242,7 @@ void main() {
             // chain instead (+0.02 dB for low without multi-bounce). With multi-bounce the
             // pyramid's last-frame reflection there scored closer than the chain (the default's
             // mirror band 21.68 against 21.63 dB with the rule; MEASUREMENTS.md, 2026-12-06).
-            if (behind) coverage = 0.0;
+            if (behind && rf.multiBounce == 0u) coverage = 0.0;
         }
         // Where the planar probe takes only a share (a glossy band), screen space keeps its hit
         // only if the planar image agrees on the mirror ray's distance (5% and 5 cm): a false
