@@ -225,6 +225,7 @@ private:
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
     double fpsTime_ = 0.0, smoothedMs_ = 0.0;
     double presentMs_ = 0.0;  // in vkQueuePresentKHR since the last fps line
+    double eventsMs_ = 0.0;   // in glfwPollEvents since the last fps line
     int fpsFrames_ = 0, frames_ = 0, sinceResize_ = 0;
     double worstMs_ = 0.0;  // the slowest frame after the start's bake, and which it was
     int worstFrame_ = -1;
@@ -343,8 +344,13 @@ void GameApp::apply(const game::Game::Events& ev) {
 
 bool GameApp::frame() {
     if (window_.shouldClose() || (opt_.frames > 0 && frames_ >= opt_.frames)) return false;
+    // Under Xvfb this waits for the X server to finish reading the last present's image (GLFW's
+    // X11 backend makes a round trip here while the cursor is disabled): 6-9 ms a frame at
+    // 1280x720 (README, measured frame rates), so the fps line shows it beside the present.
+    auto eventsStart = std::chrono::steady_clock::now();
     glfwPollEvents();
     auto now = std::chrono::steady_clock::now();
+    eventsMs_ += std::chrono::duration<double, std::milli>(now - eventsStart).count();
     double wallMs = std::chrono::duration<double, std::milli>(now - last_).count();
     last_ = now;
     // wallMs is the frame before this one; the first frames bake the probes and compile.
@@ -372,12 +378,14 @@ bool GameApp::frame() {
     fpsTime_ += wallMs / 1000.0;
     if (++fpsFrames_ >= 10 || fpsTime_ > 1.0) {
         hud_.fps = fpsFrames_ / std::max(1e-6, fpsTime_);
-        std::printf("%.1f fps (GPU %.1f ms, present %.1f ms) at %ux%u, preset %s\n", hud_.fps, hud_.gpuMs,
-                    presentMs_ / fpsFrames_, internal_.width, internal_.height, kPresets[hud_.preset]);
+        std::printf("%.1f fps (GPU %.1f ms, present %.1f ms, events %.1f ms) at %ux%u, preset %s\n", hud_.fps,
+                    hud_.gpuMs, presentMs_ / fpsFrames_, eventsMs_ / fpsFrames_, internal_.width, internal_.height,
+                    kPresets[hud_.preset]);
         std::fflush(stdout);
         fpsTime_ = 0.0;
         fpsFrames_ = 0;
         presentMs_ = 0.0;
+        eventsMs_ = 0.0;
     }
     return true;
 }

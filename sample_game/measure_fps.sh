@@ -2,8 +2,9 @@
 # measure_fps.sh [FRAMES]: speculum-game's frame rate per preset under Xvfb at the default window
 # (1280x720), standing at the start of the hall of mirrors with dynamic resolution on
 # (sample_game/README.md). Prints per preset the median of the game's fps lines after the first
-# three (warm-up), the internal resolution it settled at and the GPU and present ms. Measured, never
-# asserted: the machine is shared and noisy.
+# three (warm-up), the internal resolution it settled at and the GPU, present and events ms (the
+# last: glfwPollEvents, which under Xvfb waits for the X server to finish reading the last
+# present's image). Measured, never asserted: the machine is shared and noisy.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 frames=${1:-200}
@@ -25,9 +26,7 @@ for preset in low medium high; do
   fi
   echo "$readings" | python3 -c "
 import re, statistics, sys
-rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms, present ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]
-fps = statistics.median(float(r[0]) for r in rows)
-gpu = statistics.median(float(r[1]) for r in rows)
-present = statistics.median(float(r[2]) for r in rows)
-print('$preset: %.1f fps (median of %d readings), GPU %.1f ms, present %.1f ms, internal %s at the end' % (fps, len(rows), gpu, present, rows[-1][3]))"
+rows = [re.match(r'([\d.]+) fps \(GPU ([\d.]+) ms, present ([\d.]+) ms, events ([\d.]+) ms\) at (\d+x\d+)', l).groups() for l in sys.stdin if 'fps' in l]
+fps, gpu, present, events = (statistics.median(float(r[k]) for r in rows) for k in range(4))
+print('$preset: %.1f fps (median of %d readings), GPU %.1f ms, present %.1f ms, events %.1f ms, internal %s at the end' % (fps, len(rows), gpu, present, events, rows[-1][4]))"
 done
