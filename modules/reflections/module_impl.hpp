@@ -80,11 +80,11 @@ struct Reflections::Impl {
     // lookup list).
     static constexpr size_t kTileModes = 4;
     std::array<std::optional<gpu::Pipeline>, 8 * kTileModes> traces;
-    std::array<std::optional<gpu::Pipeline>, 4 * kTileModes * 2> resolves;  // x2: with and without planar lookups
+    std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> resolves;
     // Per view, temporal, tiled, tile scale and list (composite.comp's constants).
     std::map<uint32_t, gpu::Pipeline> composites;
     const gpu::Pipeline& trace(TraceMode mode, Resolution resolution, GlossyMode glossy, uint32_t tileMode);
-    const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode, bool noPlanar = false);
+    const gpu::Pipeline& resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode);
     // reflections.cmo_trace per resolution and tracer; the scene's lights are its constants.
     std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> cmoTraces;
     const gpu::Pipeline& cmoTrace(Resolution resolution, bool linear, uint32_t tileMode);

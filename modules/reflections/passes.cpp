@@ -489,13 +489,9 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                 .sampled("shadowMaskTex", pc.view(data.shadow), nearest)
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;
-            // The two reflective lists as the resolve splits them (tiles.h): the tiles with no
-            // pixel on a planar probe's plane without the planar lookup.
             dispatchTiles(pc, w, data.tiles, tiled,
-                          {{&resolve(res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListResolveRayPlanar},
-                           {&resolve(res, glossy, kTileModeWork, true), kListResolveRayPlain},
-                           {&resolve(res, glossy, kTileModeLookup), kListLookupPlanar},
-                           {&resolve(res, glossy, kTileModeLookup, true), kListLookupPlain},
+                          {{&resolve(res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListResolveRay},
+                           {&resolve(res, glossy, kTileModeLookup), kListLookup},
                            {&resolve(res, glossy, kTileModeFill), kListResolveFill}},
                           pc.extent(data.reflection));
         });

@@ -265,17 +265,14 @@ const gpu::Pipeline& Reflections::Impl::trace(TraceMode mode, Resolution resolut
     return *p;
 }
 
-const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode,
-                                                bool noPlanar) {
-    std::optional<gpu::Pipeline>& p =
-        resolves.at(((size_t(resolution) * 2 + size_t(glossy)) * kTileModes + tileMode) * 2 + (noPlanar ? 1 : 0));
+const gpu::Pipeline& Reflections::Impl::resolve(Resolution resolution, GlossyMode glossy, uint32_t tileMode) {
+    std::optional<gpu::Pipeline>& p = resolves.at((size_t(resolution) * 2 + size_t(glossy)) * kTileModes + tileMode);
     if (!p) {
-        // The scene's lights (ids 0-287: mirror hits move their highlights), then ids 300-302.
+        // The scene's lights (ids 0-287: mirror hits move their highlights), then ids 300 and 301.
         std::vector<uint32_t> constants = renderer.lightingConstants();
-        constants.resize(303, 0u);
+        constants.resize(302, 0u);
         constants[300] = uint32_t(resolution);
         constants[301] = uint32_t(glossy);
-        constants[302] = noPlanar ? 1u : 0u;
         p = gpu::createComputePipeline(ctx, "reflections/resolve.comp", 0, "reflections.resolve",
                                        withTileMode(std::move(constants), tileMode));
     }

@@ -50,7 +50,6 @@ void append(uint list, uint tile) {
 void main() {
     ivec2 out_ = ivec2(gl_GlobalInvocationID.xy);
     uint mine = 0u;
-    bool onPlane = false;  // reflective, on a planar probe's plane (resolve.comp's planar >= 0)
     if (all(lessThan(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) {
         ivec2 pixel = out_;
         float depth;
@@ -72,10 +71,7 @@ void main() {
         PixelMaterial m = pixelMaterial(flags, normalRough.w);
         if (depth > 0.0 && m.reflective) {
             vec3 p = worldAt(vec2(pixel) + 0.5, depth);
-            // planarServes() of chain.glsl, with the plane kept: the resolve's split (onPlane).
-            int plane = rf.planarCount > 0u ? planarAt(rf.planarCount, p, normalize(normalRough.xyz), rfm.eye) : -1;
-            bool planar = plane >= 0 && planarShare(m.roughness) >= 1.0;
-            onPlane = plane >= 0;
+            bool planar = planarServes(depth, m, p, normalize(normalRough.xyz));
             mine = kNeedResolve;
             if (m.screenSpace && m.roughness <= m.maxScreenSpace && !planar) mine |= kNeedRay;
             if (inCmoBand(depth, m, planar)) mine |= kNeedCmo;
@@ -88,18 +84,11 @@ void main() {
     // tile. Needs at most 8 subgroups per 64 invocations (a subgroup size of 8 or more: every
     // desktop GPU and lavapipe).
     uint sub = subgroupOr(mine);
-    bool subOnPlane = subgroupOr(onPlane ? 1u : 0u) != 0u;
     if (subgroupElect()) {
         uint tileIndex = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        // The plane bit has no room in the needs word (3 bits x 8 subgroups and the count): a
-        // word of its own, ORed before this subgroup arrives and read by the last to arrive.
-        if (subOnPlane) atomicOr(tiles.entries[tileIndex * kTileLists + kListPlanarArrivals], 1u);
-        memoryBarrierBuffer();
         uint add = (sub << (3u * gl_SubgroupID)) + (1u << 24);
         uint before = atomicAdd(tiles.entries[tileIndex * kTileLists + kListArrivals], add);
         if ((before >> 24) == gl_NumSubgroups - 1u) {
-            memoryBarrierBuffer();
-            bool anyOnPlane = atomicOr(tiles.entries[tileIndex * kTileLists + kListPlanarArrivals], 0u) != 0u;
             uint all = before + add, n = 0u;
             for (uint k = 0u; k < gl_NumSubgroups; ++k) n |= (all >> (3u * k)) & 7u;
             uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
@@ -109,9 +98,6 @@ void main() {
             if ((n & kNeedRay) == 0u) append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
             append((n & kNeedRay) != 0u ? kListResolveRay : (n & kNeedResolve) != 0u ? kListLookup : kListResolveFill,
                    tile);
-            // The resolve's split of the two reflective lists (tiles.h).
-            if ((n & kNeedRay) != 0u) append(anyOnPlane ? kListResolveRayPlanar : kListResolveRayPlain, tile);
-            else if ((n & kNeedResolve) != 0u) append(anyOnPlane ? kListLookupPlanar : kListLookupPlain, tile);
         }
     }
 }

@@ -47,14 +47,8 @@ layout(constant_id = 300) const uint kHalf = 0u;
 layout(constant_id = 301) const uint kStochastic = 0u;
 // Tile lists (reflections.classify): kListResolveRay runs all of it, kListLookup (no pixel with a
 // screen-space ray: its hits all read "not traced") compiles the screen-space term out, and
-// kListResolveFill writes what a pixel that reflects nothing gets. Each of the first two comes
-// split by the planar probes (tiles.h): on its Plain half no pixel lies on a plane, and kNoPlanar
-// compiles the planar lookup out (planarAt's -1 for every pixel there, so the same bits).
+// kListResolveFill writes what a pixel that reflects nothing gets.
 #include "reflections/shaders/tiles.glsl"
-layout(constant_id = 302) const uint kNoPlanar = 0u;
-const uint kResolveList = kTileMode == kTileModeFill     ? kListResolveFill
-                          : kTileMode == kTileModeLookup ? (kNoPlanar != 0u ? kListLookupPlain : kListLookupPlanar)
-                                                         : (kNoPlanar != 0u ? kListResolveRayPlain : kListResolveRayPlanar);
 
 // The reflected distance the temporal pass reprojects by (distanceOut): the screen-space hit's
 // when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
@@ -186,7 +180,9 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
 }
 
 void main() {
-    ivec2 out_ = tilePixel(kResolveList);
+    ivec2 out_ = tilePixel(kTileMode == kTileModeFill     ? kListResolveFill
+                           : kTileMode == kTileModeLookup ? kListLookup
+                                                          : kListResolveRay);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
     if (kTileMode == kTileModeFill) {
         imageStore(reflectionOut, out_, vec4(0.0));
@@ -219,7 +215,7 @@ void main() {
         // the planar image on distance and position scored 32.9 / 34.4 dB against 33.2 / 33.6
         // planar alone on mirror_floor, and its choice flipping from pixel to pixel drew moire
         // along the gallery's reflected edges (modules/reflections/MEASUREMENTS.md, "planar probes").
-        int planar = kNoPlanar == 0u && rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
+        int planar = rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
         float planarWeight = planar >= 0 ? planarShare(m.roughness) : 0.0;
         if (planarWeight >= 1.0 || kTileMode == kTileModeLookup) {
         } else if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {

@@ -18,7 +18,7 @@
 SPECULUM_SHADER_NAMESPACE_BEGIN(speculum::reflections::shader)
 
 SPECULUM_CONSTANT(uint, kTileSize, 8u);  // the passes' workgroup size: one workgroup per tile
-SPECULUM_CONSTANT(uint, kTileLists, 13u);
+SPECULUM_CONSTANT(uint, kTileLists, 8u);
 // The lists. A tile is in exactly one of each pass's lists.
 SPECULUM_CONSTANT(uint, kListTrace, 0u);       // some pixel traces a screen-space ray
 SPECULUM_CONSTANT(uint, kListTraceFill, 1u);   // none does
@@ -30,18 +30,6 @@ SPECULUM_CONSTANT(uint, kListResolveFill, 6u); // nothing reflects
 // Not a list: entries[t * kTileLists + kListArrivals] is tile t's (row-major index) word that
 // reflections.classify gathers its subgroups' needs in (zeroed by reflections.tile_clear).
 SPECULUM_CONSTANT(uint, kListArrivals, 7u);
-// The resolve's own split of kListResolveRay and kListLookup (which the full-resolution passes
-// keep using whole) by whether some pixel of the tile lies on a planar probe's plane: the tiles
-// without one run a variant with the planar lookup compiled out (lavapipe runs it, masked, for
-// every pixel otherwise: a quarter of closed_room.main's resolve; MEASUREMENTS.md, issue 23,
-// 2026-12-06).
-SPECULUM_CONSTANT(uint, kListResolveRayPlanar, 8u);
-SPECULUM_CONSTANT(uint, kListResolveRayPlain, 9u);
-SPECULUM_CONSTANT(uint, kListLookupPlanar, 10u);
-SPECULUM_CONSTANT(uint, kListLookupPlain, 11u);
-// Not a list: tile t's word at entries[t * kTileLists + kListPlanarArrivals] is non-zero when a
-// subgroup of it saw a pixel on a plane (ORed before the subgroup's arrival, read by the last).
-SPECULUM_CONSTANT(uint, kListPlanarArrivals, 12u);
 
 // How a per-pixel pass's pipeline is dispatched (its specialization constant kTileMode, id 310).
 SPECULUM_CONSTANT(uint, kTileModeScreen, 0u);  // over the whole screen (reflections.tiles off)
