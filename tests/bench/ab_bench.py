@@ -30,6 +30,12 @@ import speed_bench  # noqa: E402  (capture(): one run's per-pass times)
 ROOT = speed_bench.ROOT
 
 
+def fail(message):
+    """Bad arguments: exit 2 with one line naming what is wrong (the tools' contract)."""
+    print(f"ab_bench.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def sign_p(wins, n):
     """Two-sided sign test: P(a split at least as uneven as wins of n | p = 1/2)."""
     k = min(wins, n - wins)
@@ -55,9 +61,13 @@ def main():
     a = ap.parse_args()
     for b in (a.a, a.b):
         if not os.path.exists(os.path.join(b, "tools", "capture", "speculum-capture")):
-            sys.exit(f"ab_bench.py: {b}: no tools/capture/speculum-capture in this build folder")
-    if a.rounds < 2:
-        sys.exit("ab_bench.py: --rounds must be 2 or more")
+            fail(f"{b}: no tools/capture/speculum-capture in this build folder")
+    if a.rounds < 2 or a.frames < 1:
+        fail("--rounds must be 2 or more and --frames 1 or more")
+    for v in a.views.split(","):
+        scene = v.split(".", 1)[0]
+        if "." not in v or not os.path.exists(os.path.join(ROOT, "assets", "scenes", scene + ".gltf")):
+            fail(f"{v}: not SCENE.CAMERA with SCENE in assets/scenes")
     sets = ([f"@{a.settings}"] if a.settings else []) + a.set
     views = [v.split(".", 1) for v in a.views.split(",")]
     steps, done = len(views) * a.rounds * 2, 0
