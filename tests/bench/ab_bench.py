@@ -20,12 +20,11 @@ import argparse
 import math
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import speed_bench  # noqa: E402  (capture(): one run's per-pass times)
+import speed_bench  # noqa: E402  (capture(): one run's per-pass times; module_ms, ms)
 
 ROOT = speed_bench.ROOT
 
@@ -41,10 +40,6 @@ def sign_p(wins, n):
     k = min(wins, n - wins)
     tail = sum(math.comb(n, i) for i in range(k + 1)) / 2 ** n
     return min(1.0, 2 * tail)
-
-
-def module_ms(passes):
-    return sum(v for k, v in passes.items() if k.startswith("reflections."))
 
 
 def main():
@@ -64,12 +59,11 @@ def main():
             fail(f"{b}: no tools/capture/speculum-capture in this build folder")
     if a.rounds < 2 or a.frames < 1:
         fail("--rounds must be 2 or more and --frames 1 or more")
-    for v in a.views.split(","):
-        scene = v.split(".", 1)[0]
-        if "." not in v or not os.path.exists(os.path.join(ROOT, "assets", "scenes", scene + ".gltf")):
-            fail(f"{v}: not SCENE.CAMERA with SCENE in assets/scenes")
-    sets = ([f"@{a.settings}"] if a.settings else []) + a.set
     views = [v.split(".", 1) for v in a.views.split(",")]
+    for v in views:
+        if len(v) != 2 or not os.path.exists(os.path.join(ROOT, "assets", "scenes", v[0] + ".gltf")):
+            fail(f"{'.'.join(v)}: not SCENE.CAMERA with SCENE in assets/scenes")
+    sets = ([f"@{a.settings}"] if a.settings else []) + a.set
     steps, done = len(views) * a.rounds * 2, 0
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -85,15 +79,15 @@ def main():
                     os.makedirs(out)
                     runs[side].append(speed_bench.capture(args, scene, camera, sets, out, "color"))
             results[(scene, camera)] = runs
-    load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else ["?"] * 3
     print(f"\nA/B {a.size}, {a.rounds} rounds alternating (A B, B A, ...), each run's fastest of {a.frames} "
-          f"frames, medians over rounds; load average {' '.join(load)}\nA = {a.a}\nB = {a.b}\n")
+          f"frames, medians over rounds; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores\n"
+          f"A = {a.a}\nB = {a.b}\n")
     for (scene, camera), runs in results.items():
         print(f"### {scene}.{camera}\n")
         print("| pass | A ms | B ms | B / A | B faster in | sign test p |\n|---|---|---|---|---|---|")
         rows = [("frame", [r["frame"] for r in runs["A"]], [r["frame"] for r in runs["B"]]),
-                ("module (reflections.*)", [module_ms(r["passes"]) for r in runs["A"]],
-                 [module_ms(r["passes"]) for r in runs["B"]])]
+                ("module (reflections.*)", [speed_bench.module_ms(r["passes"]) for r in runs["A"]],
+                 [speed_bench.module_ms(r["passes"]) for r in runs["B"]])]
         names = sorted({k for r in runs["A"] for k in r["passes"]},
                        key=lambda k: -statistics.median(r["passes"].get(k, 0.0) for r in runs["A"]))
         for k in names:

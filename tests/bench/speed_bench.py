@@ -56,6 +56,11 @@ def capture(a, scene, camera, sets, out, aov):
     return {"frame": t["frame"][stat], "passes": passes, "rays": rays}
 
 
+def module_ms(passes):
+    """The module's time in one run: its passes (reflections.*) summed."""
+    return sum(v for k, v in passes.items() if k.startswith("reflections."))
+
+
 def ms(v):
     """Milliseconds with the digits a GPU's sub-millisecond passes need (lavapipe's are tens of ms)."""
     return "-" if v is None else f"{v:.1f}" if v >= 10 else f"{v:.2f}" if v >= 0.1 else f"{v:.3f}"
@@ -115,7 +120,7 @@ def main():
         for name in configs:
             rs = results[(scene, camera, name)]
             frame = med(r["frame"] for r in rs)
-            module = med(sum(v for k, v in r["passes"].items() if k.startswith("reflections.")) for r in rs)
+            module = med(module_ms(r["passes"]) for r in rs)
             probes = med(sum(v for k, v in r["passes"].items() if k.startswith("probes.")) for r in rs)
             trace = med(r["passes"].get("reflections.trace") for r in rs)
             rays = med(r["rays"] for r in rs)
