@@ -40,10 +40,16 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
     TextureHandle array = fg.importTexture(fromBelow ? "probes.cubes_below" : "probes.cubes", descOf(source),
                                            {source.get(), layout, layout, source.desc().usage});
     BufferHandle recs = fg.importBuffer("probes.records", {records.size()}, {records.get()});
+    const PlanarState& pl = planar;
+    c.ground = fg.importTexture("probes.planar_ground", descOf(pl.ground),
+                                {pl.ground.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                 pl.ground.desc().usage});
+    BufferHandle groundRecs = fg.importBuffer("probes.ground_records", {pl.groundRecords.size()},
+                                              {pl.groundRecords.get()});
     struct Bounce {
         render::GBuffer g;
-        TextureHandle lit, array, out;
-        BufferHandle recs;
+        TextureHandle lit, array, ground, out;
+        BufferHandle recs, groundRecs;
     };
     const uint32_t visible = readyCount();
     const render::Environment& env = renderer.environment();
@@ -56,9 +62,11 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
             d.lit = pb.read(lit, TextureUsage::Sampled);
             d.array = pb.read(array, TextureUsage::Sampled);
             d.recs = pb.read(recs, BufferUsage::StorageRead);
+            d.ground = pb.read(c.ground, TextureUsage::Sampled);
+            d.groundRecs = pb.read(groundRecs, BufferUsage::StorageRead);
             d.out = pb.write(pb.create("probes.face", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
         },
-        [this, frame, visible, width, height, &env](const Bounce& d, PassContext& pc) {
+        [this, frame, visible, width, height, &env, grounds = pl.groundCount](const Bounce& d, PassContext& pc) {
             bounce.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.g.depth), nearest)
@@ -71,9 +79,11 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
                 .sampled("probeCubes", pc.view(d.array, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), sampler)
                 .sampled("envSpecular", env.specular().view(), env.sampler())
                 .storage("outLit", pc.view(d.out))
+                .buffer("GroundBuffer", pc.buffer(d.groundRecs))
+                .sampled("groundImages", pc.view(d.ground, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), sampler)
                 .push(ctx, pc.cmd(), bounce);
             BouncePush p{frame.camera.invViewProj, glm::vec4(frame.camera.position, float(env.mipCount() - 1)),
-                         glm::uvec4(width, height, visible, 0u)};
+                         glm::uvec4(width, height, visible, grounds)};
             vkCmdPushConstants(pc.cmd(), bounce.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
             vkCmdDispatch(pc.cmd(), (width + 7) / 8, (height + 7) / 8, 1);
         });

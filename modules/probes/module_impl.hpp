@@ -103,6 +103,13 @@ struct Probes::Impl {
         int sinceRender = 0;             // renderPlanar calls that reused the images (interval)
         bool valid = false;              // the images and records are of this size's last render
         double ms = 0.0;
+        // The grounds (PlanarGround, probe.h): a layer each at probes.planar_ground's size, GENERAL
+        // between uses; rendered before the bakes that read them (update()), view-independent.
+        gpu::Image ground;
+        gpu::Buffer groundRecords;
+        gpu::Pipeline groundStore;
+        uint32_t groundCount = 0;  // records the last renderGrounds wrote
+        bool groundValid = false;  // false: update() renders them before its bakes
     };
     PlanarState planar;
 
@@ -129,6 +136,7 @@ struct Probes::Impl {
         render::FrameInputs frame;
         render::GBuffer g;
         TextureHandle face;
+        TextureHandle ground;  // the planar grounds as imported (probes.capture_bounce reads them)
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
     // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.
@@ -154,6 +162,10 @@ struct Probes::Impl {
     void validatePlanar() const;
     void allocatePlanar(uint32_t width, uint32_t height);
     void renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t layer);
+    // The grounds' array, records and pipeline (planar.cpp); renderGrounds renders every planar
+    // probe's ground and writes their records.
+    void createGrounds();
+    void renderGrounds();
     // One step of the first probe or CMO whose capture cycle is under way (moveProbe, recapture).
     void stepRelocations();
 };

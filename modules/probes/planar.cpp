@@ -32,9 +32,57 @@ struct StorePush {
 };
 static_assert(sizeof(StorePush) == 128, "lavapipe's push constant limit");
 
+struct GroundPush {
+    glm::mat4 invViewProj;
+    glm::vec4 plane;
+    glm::vec4 params;  // x the normal tolerance's cosine
+    glm::uvec4 info;   // xy size, z 1: a shadow mask
+};
+static_assert(sizeof(GroundPush) == 112, "lavapipe's push constant limit");
+
+// The ground's orthographic camera stands this far above the plane: the lighting's view vector
+// is then within 5 degrees of the normal over an 8 m rectangle (a light's highlight lands under
+// it). Its depth range is the plane +-2 cm: the plane's triangles within the planar probe's 1 cm
+// tolerance are drawn, and of an object standing on it only what lies in that slab (a sphere's
+// bottom, 15 cm across for a 60 cm radius, which the normal test then leaves out).
+constexpr float kGroundHeight = 50.0f;
+constexpr float kGroundSlab = 0.02f;
+
 // The planar image's height for a view `viewHeight` tall: the probe's resolution, or half the view's.
 uint32_t planarHeight(const PlanarInfo& p, uint32_t viewHeight) {
     return p.probe.resolution > 0 ? p.probe.resolution : std::max(viewHeight / 2, 1u);
+}
+
+// Box mips for glossy lobes below mip `first` of `layer`: each level a linear blit of the one
+// above (one pass per level, so the graph orders them). Returns the last level's handle.
+TextureHandle addBoxMips(FrameGraph& fg, TextureHandle image, const std::string& name, uint32_t layer, uint32_t first,
+                         const gpu::ImageDesc& desc) {
+    struct Mip {
+        TextureHandle src, dst;
+    };
+    TextureHandle last = image;
+    for (uint32_t m = first + 1; m < desc.mips; ++m) {
+        const auto& mp = fg.addPass<Mip>(
+            name + "." + std::to_string(m), PassType::Transfer,
+            [&](PassBuilder& pb, Mip& d) {
+                d.src = pb.read(last, TextureUsage::TransferSrc, Subresource{m - 1, 1, layer, 1});
+                d.dst = pb.write(last, TextureUsage::TransferDst, Subresource{m, 1, layer, 1});
+            },
+            [m, layer, w0 = desc.width, h0 = desc.height](const Mip& d, PassContext& pc) {
+                auto size = [&](uint32_t mip) {
+                    return VkOffset3D{int32_t(std::max(w0 >> mip, 1u)), int32_t(std::max(h0 >> mip, 1u)), 1};
+                };
+                VkImageBlit blit{};
+                blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, layer, 1};
+                blit.srcOffsets[1] = size(m - 1);
+                blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, layer, 1};
+                blit.dstOffsets[1] = size(m);
+                vkCmdBlitImage(pc.cmd(), pc.image(d.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(d.dst),
+                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+            });
+        last = mp.dst;
+    }
+    return last;
 }
 
 }  // namespace
@@ -104,6 +152,101 @@ void Probes::Impl::createPlanar() {
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.planar.records");
     planar.store = gpu::createComputePipeline(ctx, "probes/planar_store.comp", sizeof(StorePush), "probes.planar_store");
     allocatePlanar(4, 4);
+    createGrounds();
+}
+
+void Probes::Impl::createGrounds() {
+    PlanarState& s = planar;
+    // Without planar probes or with probes.planar_ground 0, one black texel: capture_bounce
+    // binds the array whatever the count.
+    const bool any = !s.list.empty() && settings.planarGround > 0;
+    const uint32_t size = any ? std::min(uint32_t(settings.planarGround), ctx.properties().limits.maxImageDimension2D) : 1u;
+    const uint32_t mips = std::max(1, int(std::bit_width(size)) - 2);  // down to about 4 px
+    const VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                    VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    s.ground = gpu::Image(ctx, {size, size, kPlanarFormat, mips, uint32_t(any ? s.list.size() : 1), false, usage},
+                          "probes.planar_ground");
+    s.groundRecords = gpu::Buffer(ctx, sizeof(shader::PlanarGround) * kMaxPlanarProbes,
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, "probes.ground_records");
+    // The scene's lights (ids 0-287): the store takes out the view's direct specular.
+    s.groundStore = gpu::createComputePipeline(ctx, "probes/ground_store.comp", sizeof(GroundPush), "probes.ground_store",
+                                               renderer.lightingConstants());
+    s.groundValid = !any;
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        gpu::transition(cmd, s.ground.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+        VkClearColorValue zero{};
+        VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+        vkCmdClearColorImage(cmd, s.ground.get(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    });
+}
+
+render::CameraState groundCamera(const PlanarInfo& info, uint32_t size) {
+    Camera c;
+    c.perspective = false;
+    c.xmag = info.probe.extents.x;
+    c.ymag = info.probe.extents.y;
+    c.znear = kGroundHeight - kGroundSlab;
+    c.zfar = kGroundHeight + kGroundSlab;
+    // Looking down the normal (-Z = -normal), the image's up along the rectangle's depth axis:
+    // X = Y x Z = axisZ x normal = -axisX, so xmag spans the width and ymag the depth.
+    c.world = glm::mat4(glm::vec4(-info.axisX, 0.0f), glm::vec4(info.axisZ, 0.0f), glm::vec4(info.normal, 0.0f),
+                        glm::vec4(info.origin + info.normal * kGroundHeight, 1.0f));
+    return render::makeCamera(c, size, size);
+}
+
+void Probes::Impl::renderGrounds() {
+    PlanarState& s = planar;
+    s.groundValid = true;
+    if (s.list.empty() || settings.planarGround <= 0) return;
+    // The grounds' own surfaces reflect without them (a floor's ray goes up, and nothing else
+    // is in the slab), and the graph below writes what capture_bounce would read.
+    s.groundCount = 0;
+    const gpu::ImageDesc& desc = s.ground.desc();
+    auto* out = static_cast<shader::PlanarGround*>(s.groundRecords.mapped());
+    for (size_t i = 0; i < s.list.size(); ++i) {
+        const PlanarInfo& info = s.list[i];
+        const uint32_t layer = uint32_t(i);
+        FrameGraph fg(FrameGraphConfig{desc.width, desc.height});
+        render::FrameInputs frame;
+        frame.camera = frame.previousCamera = groundCamera(info, desc.width);
+        CaptureFace cap = addCaptureView(fg, frame);
+        struct Store {
+            render::GBuffer g;
+            TextureHandle face, out;
+        };
+        const Subresource target{0, 1, layer, 1};
+        const auto& st = fg.addPass<Store>(
+            "probes.ground_store", PassType::Compute,
+            [&](PassBuilder& pb, Store& d) {
+                d.g = render::readSurfaceAttachments(pb, cap.g);
+                if (cap.g.shadowMask.valid()) d.g.shadowMask = pb.read(cap.g.shadowMask, TextureUsage::Sampled);
+                d.face = pb.read(cap.face, TextureUsage::Sampled);
+                d.out = pb.write(cap.ground, TextureUsage::StorageWrite, target);
+            },
+            [this, &s, &info, target, size = desc.width, cam = frame.camera](const Store& d, PassContext& pc) {
+                s.groundStore.bind(pc.cmd());
+                const bool shadowed = d.g.shadowMask.valid();
+                // No shadowed light: the face stands in for the mask's binding, unread.
+                gpu::DescriptorWriter()
+                    .sampled("depthTex", pc.view(d.g.depth), nearest)
+                    .sampled("albedoTex", pc.view(d.g.albedo), nearest)
+                    .sampled("normalTex", pc.view(d.g.normal), nearest)
+                    .sampled("faceTex", pc.view(d.face), nearest)
+                    .sampled("shadowMask", shadowed ? pc.view(d.g.shadowMask) : pc.view(d.face), nearest)
+                    .storage("outImage", pc.view(d.out, target, VK_IMAGE_VIEW_TYPE_2D))
+                    .push(ctx, pc.cmd(), s.groundStore);
+                GroundPush p{cam.invViewProj, info.plane, glm::vec4(kNormalTolerance, 0.0f, 0.0f, 0.0f),
+                             glm::uvec4(size, size, shadowed ? 1u : 0u, 0u)};
+                vkCmdPushConstants(pc.cmd(), s.groundStore.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
+                vkCmdDispatch(pc.cmd(), (size + 7) / 8, (size + 7) / 8, 1);
+            });
+        fg.markOutput(addBoxMips(fg, st.out, "probes.ground_mips", layer, 0, desc));
+        ms += runCapture(fg);
+        const float texel = 2.0f * std::max(info.probe.extents.x, info.probe.extents.y) / float(desc.width);
+        out[i] = shader::PlanarGround{frame.camera.viewProj, info.plane,
+                                      glm::vec4(float(layer), texel, float(desc.mips - 1), 0.0f)};
+    }
+    s.groundCount = uint32_t(s.list.size());
 }
 
 void Probes::Impl::validatePlanar() const {
@@ -180,33 +323,7 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
             vkCmdPushConstants(pc.cmd(), s.store.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
             vkCmdDispatch(pc.cmd(), (cam.width + 7) / 8, (cam.height + 7) / 8, 1);
         });
-    TextureHandle last = st.out;
-    // Box mips for glossy lobes: each level a linear blit of the one above (one pass per level,
-    // so the graph orders them).
-    struct Mip {
-        TextureHandle src, dst;
-    };
-    for (uint32_t m = base + 1; m < s.images.desc().mips; ++m) {
-        const auto& mp = fg.addPass<Mip>(
-            "probes.planar_mips." + std::to_string(m), PassType::Transfer,
-            [&](PassBuilder& pb, Mip& d) {
-                d.src = pb.read(last, TextureUsage::TransferSrc, Subresource{m - 1, 1, layer, 1});
-                d.dst = pb.write(last, TextureUsage::TransferDst, Subresource{m, 1, layer, 1});
-            },
-            [m, layer, w0 = s.images.desc().width, h0 = s.images.desc().height](const Mip& d, PassContext& pc) {
-                auto size = [&](uint32_t mip) {
-                    return VkOffset3D{int32_t(std::max(w0 >> mip, 1u)), int32_t(std::max(h0 >> mip, 1u)), 1};
-                };
-                VkImageBlit blit{};
-                blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, layer, 1};
-                blit.srcOffsets[1] = size(m - 1);
-                blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, layer, 1};
-                blit.dstOffsets[1] = size(m);
-                vkCmdBlitImage(pc.cmd(), pc.image(d.src), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.image(d.dst),
-                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
-            });
-        last = mp.dst;
-    }
+    TextureHandle last = addBoxMips(fg, st.out, "probes.planar_mips", layer, base, s.images.desc());
     fg.markOutput(last);
     s.ms += runCapture(fg);
 }

@@ -309,6 +309,8 @@ double Probes::cmoCaptureMs() const { return impl_->cmo->ms; }
 
 void Probes::requestUpdate(int probe) {
     Impl& m = *impl_;
+    // The whole scene changed (an edit, a taken gem): the grounds too.
+    if (probe < 0) m.planar.groundValid = m.planar.list.empty() || m.settings.planarGround <= 0;
     for (size_t i = 0; i < m.pending.size(); ++i)
         if (probe < 0 || size_t(probe) == i) m.pending[i] = true;
     // CMOs follow the local probes in this numbering.
@@ -339,6 +341,9 @@ void Probes::update(const Progress& progress) {
         if (start || m.pending[i] || mode == ProbeUpdate::EveryFrame) full.push_back(i);
         else if (mode == ProbeUpdate::TimeSliced) sliced.push_back(i);
     }
+    // The grounds before the bakes that read them (capture_bounce); on the first update they see
+    // only the sky, as a bake's first round does.
+    if (!m.planar.groundValid) m.renderGrounds();
     // Bounces: at start every bake after the first sees the one before it.
     int rounds = m.baked ? 1 : m.settings.bounces;
     size_t done = 0, total = full.size() * 6 * size_t(rounds);
@@ -374,6 +379,7 @@ void restartCycle(int& next, std::vector<bool>::reference again) {
 
 void Probes::recapture(int probe) {
     Impl& m = *impl_;
+    if (probe < 0) m.planar.groundValid = m.planar.list.empty() || m.settings.planarGround <= 0;
     for (size_t i = 0; i < m.probes.size(); ++i)
         if (probe < 0 || size_t(probe) == i) restartCycle(m.relocating[i], m.movedAgain[i]);
     // A CMO in place keeps `ready`: its distances stay relative to the same centre.
@@ -469,6 +475,10 @@ ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled, bool cmos) {
     set.planar.images = import(m.planar.images, "probes.planar");
     set.planar.records = graph.importBuffer("probes.planar.records", {m.planar.records.size()}, {m.planar.records.get()});
     set.planar.count = enabled ? m.planar.rendered : 0;
+    set.planar.ground = import(m.planar.ground, "probes.planar_ground");
+    set.planar.groundRecords = graph.importBuffer("probes.ground_records", {m.planar.groundRecords.size()},
+                                                  {m.planar.groundRecords.get()});
+    set.planar.groundCount = enabled ? m.planar.groundCount : 0;
     return set;
 }
 

@@ -26,7 +26,7 @@ static_assert(offsetof(FrameUniforms, size) == 272 && offsetof(FrameUniforms, ma
 static_assert(offsetof(FrameUniforms, traceMode) == 368 && offsetof(FrameUniforms, temporalAlpha) == 400);
 static_assert(offsetof(FrameUniforms, cmoCount) == 416);
 static_assert(offsetof(FrameUniforms, planarCount) == 448);
-static_assert(sizeof(FrameUniforms) == 464, "std140 layout");
+static_assert(sizeof(FrameUniforms) == 468, "std140 layout");
 
 // The Hi-Z pyramid's texels: the cell's farthest and closest depth (reversed-Z).
 inline constexpr VkFormat kHiZFormat = VK_FORMAT_R32G32_SFLOAT;
@@ -186,10 +186,10 @@ struct Reflections::Impl {
                                 const ReflectionSettings& s, TextureHandle hiz, TextureHandle halfMethod,
                                 TextureHandle upsampled);
     // The fallback chain past screen space, as the passes that evaluate it (resolve, lookup_full)
-    // read it: the local probes, the planar probes and (bindChain) the sky.
+    // read it: the local probes, the planar probes and their grounds, and (bindChain) the sky.
     struct ChainReads {
-        TextureHandle probeCubes, planar;
-        BufferHandle probeRecords, planarRecords;
+        TextureHandle probeCubes, planar, ground;
+        BufferHandle probeRecords, planarRecords, groundRecords;
     };
     static ChainReads readChain(PassBuilder& b, const probes::ProbeSet& set);
     void bindChain(gpu::DescriptorWriter& w, PassContext& pc, const ChainReads& r) const;

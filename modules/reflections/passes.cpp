@@ -422,7 +422,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
 // The probe sets are the host's, or the dummies Reflections::addPasses imports when it gave none.
 Reflections::Impl::ChainReads Reflections::Impl::readChain(PassBuilder& b, const probes::ProbeSet& set) {
     return {b.read(set.cubes, TextureUsage::Sampled), b.read(set.planar.images, TextureUsage::Sampled),
-            b.read(set.records, BufferUsage::StorageRead), b.read(set.planar.records, BufferUsage::StorageRead)};
+            b.read(set.planar.ground, TextureUsage::Sampled), b.read(set.records, BufferUsage::StorageRead),
+            b.read(set.planar.records, BufferUsage::StorageRead),
+            b.read(set.planar.groundRecords, BufferUsage::StorageRead)};
 }
 
 void Reflections::Impl::bindChain(gpu::DescriptorWriter& w, PassContext& pc, const ChainReads& r) const {
@@ -431,7 +433,9 @@ void Reflections::Impl::bindChain(gpu::DescriptorWriter& w, PassContext& pc, con
         .buffer("ProbeBuffer", pc.buffer(r.probeRecords))
         .sampled("probeCubes", pc.view(r.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
         .buffer("PlanarBuffer", pc.buffer(r.planarRecords))
-        .sampled("planarImages", pc.view(r.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
+        .sampled("planarImages", pc.view(r.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
+        .buffer("GroundBuffer", pc.buffer(r.groundRecords))
+        .sampled("groundImages", pc.view(r.ground, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
 }
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,

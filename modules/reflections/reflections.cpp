@@ -99,6 +99,10 @@ probes::PlanarSet Reflections::Impl::importNoPlanar(FrameGraph& g) const {
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noPlanarImages.desc().usage});
     set.records = g.importBuffer("reflections.no_planar_records", {sizeof(probes::shader::PlanarProbe)},
                                  {noPlanarRecords.get()});
+    // No grounds either (count 0): the same dummies stand in for their bindings.
+    static_assert(sizeof(probes::shader::PlanarGround) <= sizeof(probes::shader::PlanarProbe));
+    set.ground = set.images;
+    set.groundRecords = set.records;
     return set;
 }
 
@@ -171,6 +175,7 @@ void Reflections::Impl::writeUniforms(const ReflectionInputs& in, const Reflecti
     u.cmoMaxRoughness = s.cmoMaxRoughness;
     u.cmoPassBehind = s.cmoPassBehind ? 1u : 0u;
     u.planarCount = s.probes && in.probes.planar.records.valid() ? in.probes.planar.count : 0u;
+    u.groundCount = s.probes && in.probes.planar.groundRecords.valid() ? in.probes.planar.groundCount : 0u;
     u.refreshValid = history.refreshValid() && lastSettings && *lastSettings == asked && !cut ? 1u : 0u;
     // Moved beyond rounding: a camera path interpolating between two equal keys (glm::mix) gives
     // matrices an ulp apart, and clipping a still camera's history stops ray_budget=quarter from

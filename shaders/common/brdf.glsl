@@ -80,4 +80,14 @@ vec3 evalBRDFCos(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float p
     return (diffuse + specular) * NoL;
 }
 
+// tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp (the cone
+// tracer's, the planar lookup's and the ground lookup's footprint), from its cosine:
+// acos and tan cost a polynomial each per lane on a CPU driver.
+float coneTan(float roughness) {
+    float alpha = max(roughness * roughness, 1e-4);
+    float power = 2.0 / (alpha * alpha) - 2.0;
+    float c = exp2(log2(0.244) / (power + 1.0));
+    return power > 1048576.0 ? 0.0 : sqrt(max(1.0 - c * c, 0.0)) / c;
+}
+
 #endif

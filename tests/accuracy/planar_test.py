@@ -10,12 +10,16 @@ floor      mirror_floor (tests/accuracy/make_planar_scene.py: a chrome sphere st
 off_plane  the gallery (a chrome sphere, a torus, a concave mirror and four floor bands) with and
            without a planar probe on its sharp floor band, in the first frame (no reflection fed
            back yet): every reflective pixel off the floor's plane is the same, within max_abs_diff.
+           Its ground is off on both sides (probes.planar_ground=0): rays that meet the floor from
+           above read it by design, which `ground` tests against the reference.
 cmo_floor  the scene without its planar probe, with and without a CMO above the sphere (issue 24
            part 3): the floor's pixels whose mirror ray meets the sphere (its reflected underside,
            computed from the scene's camera and sphere) are never worse with the CMO, by more than
            max_underside_loss_db, and the whole floor by more than max_loss_db.
 open_sky   failure_cases (a sharp mirror floor under an open sky) with and without a planar probe
            on its floor: the floor reaches psnr_min with it and gains min_gain_db over without.
+ground     closed_room's views with and without the planar probe's ground (probes.planar_ground):
+           the mirror band gains min_gain_db[camera] with it.
 """
 import json
 import math
@@ -127,8 +131,8 @@ def floor_psnr(tools, image, ref_dir, exposure, band):
     return json.loads(r.stdout)["bands"][0]
 
 
-def capture(tools, view, size, out, warmup=3):
-    image, _, _, _ = bench.capture(tools, view, size, [], "reflection", {"warmup": warmup, "frames": 1}, out)
+def capture(tools, view, size, out, warmup=3, sets=()):
+    image, _, _, _ = bench.capture(tools, view, size, list(sets), "reflection", {"warmup": warmup, "frames": 1}, out)
     return image
 
 
@@ -179,8 +183,10 @@ def off_plane(tools, rule, out, cache):
         ny = next(iter(nb.values()))
         imgs = {}
         for label, f in files.items():
+            # The planar probe's ground off on both sides: it changes off-plane pixels by design
+            # (a ray that meets the floor from above reads it; `ground` tests that it helps).
             image = capture(tools, {"scene": "gallery", "camera": cam, "file": str(f)}, rule["size"],
-                            out / f"{cam}.{label}", warmup=0)
+                            out / f"{cam}.{label}", warmup=0, sets=["probes.planar_ground=0"])
             w, h, imgs[label] = load(str(image), str(tmp))
         a, b = ([d[c] for c in ("R", "G", "B")] for d in (imgs["planar"], imgs["no_planar"]))
         worst, off, on, changed = 0.0, 0, 0, 0
@@ -263,9 +269,33 @@ def cmo_floor(tools, rule, out, cache):
     return ok
 
 
+def ground(tools, rule, out, cache):
+    """closed_room (a chrome sphere, a torus and a copper sphere standing on a glossy floor with a
+    planar probe) with and without the planar probe's ground, against the converged references:
+    the rays that meet the floor under those objects read it there instead of the box probe's
+    capture, which sees the objects in its place. The mirror band must gain min_gain_db[camera]."""
+    ok = True
+    for cam in rule["views"]:
+        view = {"scene": "closed_room", "camera": cam}
+        ref_dir, _ = bench.render_reference(tools, view, rule["size"], rule["reference"], cache)
+        exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
+        got = {}
+        for label, sets in (("ground", []), ("no_ground", ["probes.planar_ground=0"])):
+            image = capture(tools, view, rule["size"], out / f"{cam}.{label}", sets=sets)
+            got[label] = bench.score(tools, image, ref_dir, "reflection", exposure,
+                                     out / f"{cam}.{label}.heatmap.png")["mirror_psnr_db"]
+        gain = got["ground"] - got["no_ground"]
+        limit = rule["min_gain_db"][cam]
+        good = gain >= limit
+        print(f"ground closed_room.{cam}: mirror band {got['ground']:.2f} dB with the ground, {got['no_ground']:.2f} "
+              f"without ({gain:+.2f} dB; must gain >= {limit}){'' if good else '  FAIL'}")
+        ok &= good
+    return ok
+
+
 def main():
     p = tool_parser()
-    p.add_argument("--check", choices=("floor", "off_plane", "cmo_floor", "open_sky"), required=True)
+    p.add_argument("--check", choices=("floor", "off_plane", "cmo_floor", "open_sky", "ground"), required=True)
     p.add_argument("--cache", required=True)
     p.add_argument("--out", required=True)
     a = p.parse_args()
@@ -275,7 +305,7 @@ def main():
     rule = dict(rules[a.check])
     for k in ("size", "reference", "views"):
         rule.setdefault(k, rules[k])
-    ok = {"floor": floor, "off_plane": off_plane, "cmo_floor": cmo_floor, "open_sky": open_sky}[a.check](
+    ok = {"floor": floor, "off_plane": off_plane, "cmo_floor": cmo_floor, "open_sky": open_sky, "ground": ground}[a.check](
         a, rule, out, Path(a.cache))
     sys.exit(0 if ok else 1)
 

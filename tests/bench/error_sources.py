@@ -13,7 +13,8 @@ half (`ssr`, `cmo`, `probe` for local and planar probes, `env` for the sky, else
 a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`. A second table splits the method by
 reflection roughness in tenths, with the level of our reflection against the reference's (sum of
 ours over sum of theirs: a bias shows as a level far from 1). The N 32x30 blocks with the most
-error close the tables. This is how the mirror hits' 72% of cornell_mirrors.main's error was found
+error close the tables. The first line also gives the rough band's PSNR (a change made for the
+mirror band must not cost it). This is how the mirror hits' 72% of cornell_mirrors.main's error was found
 (modules/reflections/MEASUREMENTS.md)."""
 import argparse
 import json
@@ -74,9 +75,14 @@ def main():
         c[0] += se
         c[1] += 1
 
+    roughBand = [0.0, 0]  # the rough band's squared error and pixels, for its one line
     for y in range(h):
         for x in range(w):
-            if refl[y][x] <= 0.5 or rough[y][x] >= MIRROR or err[y][x] * scale > 0.01:
+            if refl[y][x] <= 0.5 or err[y][x] * scale > 0.01:
+                continue
+            if rough[y][x] >= MIRROR:
+                roughBand[0] += sum((clamp(T[c][y][x]) - clamp(R[c][y][x])) ** 2 for c in "RGB") / 3
+                roughBand[1] += 1
                 continue
             se = sum((clamp(T[c][y][x]) - clamp(R[c][y][x])) ** 2 for c in "RGB") / 3
             m = [M[c][y][x] for c in "RGBA"]
@@ -100,7 +106,8 @@ def main():
     if not total[1]:
         sys.exit(f"error_sources.py: {a.view} has no converged mirror-band pixels")
     db = lambda s, n: 10 * math.log10(n / s) if s > 0 else float("inf")
-    print(f"{a.view} {' '.join(a.set)}: mirror band {db(*total):.2f} dB on {total[1]} px (capture in {out})")
+    print(f"{a.view} {' '.join(a.set)}: mirror band {db(*total):.2f} dB on {total[1]} px, rough band "
+          f"{db(*roughBand) if roughBand[1] else float('nan'):.2f} dB on {roughBand[1]} px (capture in {out})")
     print("| class | pixels | share of squared error | PSNR dB |\n|---|---|---|---|")
     for k, (s, n) in sorted(classes.items(), key=lambda kv: -kv[1][0]):
         print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} |")

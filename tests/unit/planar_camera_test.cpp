@@ -106,5 +106,44 @@ TEST(PlanarCamera, RefusesAnEyeBehindThePlaneAndOrthographicViews) {
     EXPECT_FALSE(mirroredCamera(ortho, {0, 1, 0, 0}, 32, 32, 0.002f, out));
 }
 
+// The ground's camera (probes.ground_store, shaders/ground.glsl): a tilted planar probe's
+// rectangle fills the image exactly, its points at depth 0.5; 3 cm off the plane is clipped,
+// and the winding matches the view's (the floor's front faces stay front faces).
+TEST(PlanarCamera, GroundFillsTheRectangleAndClipsOffThePlane) {
+    PlanarInfo info;
+    info.normal = glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f));
+    info.axisX = glm::normalize(glm::cross(glm::vec3(0, 0, 1), info.normal));
+    info.axisZ = glm::cross(info.axisX, info.normal);
+    info.origin = {0.5f, 0.3f, -1.0f};
+    info.plane = glm::vec4(info.normal, -glm::dot(info.normal, info.origin));
+    info.probe.extents = {4.0f, 3.0f, 0.0f};
+    const render::CameraState c = groundCamera(info, 128);
+    auto at = [&](float x, float z, float up) {
+        return info.origin + x * info.axisX + z * info.axisZ + up * info.normal;
+    };
+    for (float sx : {-1.0f, 1.0f})
+        for (float sz : {-1.0f, 1.0f}) {
+            glm::dvec4 q = clipOf(c, at(sx * 4.0f, sz * 3.0f, 0.0f));
+            EXPECT_NEAR(std::abs(q.x / q.w), 1.0, 1e-5);
+            EXPECT_NEAR(std::abs(q.y / q.w), 1.0, 1e-5);
+            EXPECT_NEAR(q.z / q.w, 0.5, 1e-4);
+        }
+    EXPECT_TRUE(visible(clipOf(c, at(1.0f, -2.0f, 0.015f))));
+    EXPECT_TRUE(visible(clipOf(c, at(1.0f, -2.0f, -0.015f))));
+    EXPECT_FALSE(visible(clipOf(c, at(1.0f, -2.0f, 0.03f))));
+    EXPECT_FALSE(visible(clipOf(c, at(1.0f, -2.0f, -0.03f))));
+    EXPECT_FALSE(visible(clipOf(c, at(4.2f, 0.0f, 0.0f))));
+    // Seen from above the plane, a triangle wound counter-clockwise about the normal keeps the
+    // sign of its screen-space area that a perspective view from above gives it.
+    auto area = [&](const render::CameraState& cam) {
+        glm::dvec4 a = clipOf(cam, at(0, 0, 0)), b = clipOf(cam, at(1, 0, 0)), d = clipOf(cam, at(0, -1, 0));
+        glm::dvec2 p0(a / a.w), p1(b / b.w), p2(d / d.w);
+        return (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+    };
+    const render::CameraState persp =
+        render::makeCamera(at(0.3f, 0.2f, 3.0f), info.origin, info.axisZ, 0.9f, 128, 128);
+    EXPECT_GT(area(c) * area(persp), 0.0) << area(c) << " " << area(persp);
+}
+
 }  // namespace
 }  // namespace speculum::probes

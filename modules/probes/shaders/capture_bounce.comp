@@ -5,11 +5,17 @@
 // that reflections of reflective surfaces accumulate one bounce per bake. Sky pixels are left
 // out (alpha 0): the lookup takes the real sky there. render.lighting left
 // this term out for them (kFlagReflective), as it does when the reflections module runs.
+// A ray that meets a planar probe's plane from above before the probes' proxy reads the plane's
+// ground there (probe.h, PlanarGround): the floor under an object standing on it, which the
+// cube's capture point cannot see past the object.
 #define PROBES_BUFFER_BINDING 6
 #define PROBES_CUBES_BINDING 7
+#define GROUND_BUFFER_BINDING 10
+#define GROUND_IMAGES_BINDING 11
 #include "common/brdf.glsl"
 #include "common/camera.glsl"
 #include "probes/shaders/probes.glsl"
+#include "probes/shaders/ground.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -25,7 +31,7 @@ layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D outLit;
 layout(push_constant) uniform Push {
     mat4 invViewProj;
     vec4 eye;    // xyz capture point, w the sky's last mip
-    uvec4 info;  // xy face size, z probe count (0 on the first bake), w 0
+    uvec4 info;  // xy face size, z probe count (0 on the first bake), w ground count
 } pc;
 
 void main() {
@@ -41,8 +47,10 @@ void main() {
         vec3 n = normalize(nr.xyz);
         vec3 v = normalize(pc.eye.xyz - p);
         vec3 r = reflect(-v, n);
-        vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w);
+        float proxy;
+        vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy);
         vec3 sky = textureLod(envSpecular, r, nr.w * pc.eye.w).rgb;
+        probe = groundOverProbes(pc.info.w, p, r, nr.w, probe, proxy);
         vec3 radiance = probe.rgb + (1.0 - probe.a) * sky;
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec2 dfg = textureLod(dfgTex, vec2(clamp(dot(n, v), 0.0, 1.0), nr.w), 0.0).rg;

@@ -5,10 +5,11 @@
 // the plane's point p is read at p's own UV; a normal that is not the plane's (a bump, a
 // tolerance) reads where p + r * d lands, d the mirrored distance there; a glossy lobe reads
 // the mip of its cone's footprint at that distance. Before including, define
-// PLANAR_BUFFER_BINDING and PLANAR_IMAGES_BINDING (set 0), and provide coneTan().
+// PLANAR_BUFFER_BINDING and PLANAR_IMAGES_BINDING (set 0).
 #ifndef SPECULUM_PLANAR_GLSL
 #define SPECULUM_PLANAR_GLSL
 
+#include "common/brdf.glsl"  // coneTan
 #include "probes/shaders/probe.h"
 
 layout(set = 0, binding = PLANAR_BUFFER_BINDING, std430) readonly buffer PlanarBuffer {

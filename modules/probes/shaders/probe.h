@@ -25,8 +25,20 @@ struct PlanarProbe {
     vec4 params;        // x layer of the image array, y its base mip, z rad per pixel at that mip, w last mip
 };
 
+// A planar probe's ground (planar.cpp renders it, probes.capture_bounce reads it from
+// GroundBuffer): the plane inside its rectangle seen straight down, orthographically, with the
+// renderer's own passes, so that a ray meeting the plane from above (a sphere's underside over a
+// mirror floor) reads the floor it meets. A cube's proxy places that floor wrong wherever an
+// object on the plane hides it from the capture point. std430: a matrix and two vec4 rows.
+struct PlanarGround {
+    mat4 viewProj;  // the orthographic camera's: the rectangle fills clip x and y in [-1, 1]
+    vec4 plane;     // xyz unit normal (world), w = -dot(normal, origin)
+    vec4 params;    // x layer of the ground array, y metres per texel (the longer side), z last mip, w 0
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 112);
+static_assert(sizeof(PlanarGround) == 96);
 static_assert(sizeof(PlanarProbe) == 176);
 #endif
 SPECULUM_SHADER_NAMESPACE_END

@@ -1,7 +1,7 @@
 // The fallback chain's per-pixel decisions, shared by reflections.classify, trace, cmo_trace,
 // resolve and lookup_full so that a tile list and the pass that runs on it can never disagree.
 // Include after common.glsl, material.glsl and probes/shaders/planar.glsl (and
-// probes/shaders/probes.glsl for probesAndSky).
+// probes/shaders/probes.glsl and ground.glsl for probesAndSky).
 #ifndef SPECULUM_REFLECTIONS_CHAIN_GLSL
 #define SPECULUM_REFLECTIONS_CHAIN_GLSL
 
@@ -27,11 +27,13 @@ bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
 }
 
 #ifdef SPECULUM_PROBES_GLSL
-// What the chain gives past screen space and the CMOs, the planar probe aside: the local probes,
-// then the sky for what they leave (reflections.resolve, and reflections.lookup_full, which must
-// give the same bits). Needs the includer's envSpecular (the prefiltered sky cube).
+// What the chain gives past screen space and the CMOs, the planar probe aside: the local probes
+// with the planar probes' grounds over them (probes/shaders/ground.glsl), then the sky for what
+// they leave (reflections.resolve, and reflections.lookup_full, which must give the same bits).
+// Needs the includer's envSpecular (the prefiltered sky cube).
 vec3 probesAndSky(vec3 p, vec3 n, vec3 r, float roughness, out vec4 probe, out float proxyDistance) {
     probe = sampleProbes(rf.probeCount, p, n, r, roughness, proxyDistance);
+    probe = groundOverProbes(rf.groundCount, p, r, roughness, probe, proxyDistance);
     vec3 sky = textureLod(envSpecular, r, roughness * rf.envMaxMip).rgb;
     return probe.rgb + (1.0 - probe.a) * sky;
 }

@@ -5,6 +5,7 @@
 #ifndef SPECULUM_REFLECTIONS_COMMON_GLSL
 #define SPECULUM_REFLECTIONS_COMMON_GLSL
 
+#include "common/brdf.glsl"  // coneTan
 #include "common/camera.glsl"
 
 // The frame constants, `rf`: declared once for C++ and GLSL (reflections/frame.h), read from a
@@ -66,15 +67,6 @@ float distanceFade(float dist) {
 // The world distance from which distanceFade is 0.
 float distanceFadeEnd() {
     return rf.distanceFadeEnd > rf.distanceFadeStart ? rf.distanceFadeEnd : rf.distanceFadeStart;
-}
-
-// tan(coneAngle(roughness)), coneAngle() of modules/reflections/math.cpp, from its cosine:
-// acos and tan cost a polynomial each per lane on a CPU driver.
-float coneTan(float roughness) {
-    float alpha = max(roughness * roughness, 1e-4);
-    float power = 2.0 / (alpha * alpha) - 2.0;
-    float c = exp2(log2(0.244) / (power + 1.0));
-    return power > 1048576.0 ? 0.0 : sqrt(max(1.0 - c * c, 0.0)) / c;
 }
 
 // Hits near the screen's edges fade to the fallback (reflections.edge_fade).

@@ -77,6 +77,8 @@ SPECULUM_BLOCK(layout(set = 0, binding = 0, std140) readonly buffer, ReflectionF
     // Screen-space hits on reflective surfaces below this roughness are shaded for the ray
     // (reflections.hit_reflect_max_roughness; resolve.comp, mirrorHit).
     float hitReflectMaxRoughness;
+    // The planar probes' grounds under the probe step (probes/shaders/ground.glsl).
+    uint groundCount;  // 0: off or none
 } SPECULUM_BLOCK_INSTANCE(rf);
 
 SPECULUM_SHADER_NAMESPACE_END

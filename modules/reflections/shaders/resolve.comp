@@ -18,7 +18,10 @@
 #include "probes/shaders/probes.glsl"
 #define PLANAR_BUFFER_BINDING 16
 #define PLANAR_IMAGES_BINDING 17
+#define GROUND_BUFFER_BINDING 23
+#define GROUND_IMAGES_BINDING 24
 #include "probes/shaders/planar.glsl"
+#include "probes/shaders/ground.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 

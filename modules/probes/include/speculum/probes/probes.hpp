@@ -42,6 +42,7 @@ struct ProbeSettings {
     int prefilterSamples;  // GGX samples per texel of the rough mips
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     int planarInterval;    // planar probes render every this many frames (renderPlanar)
+    int planarGround;      // a planar probe's ground image size (0: none)
     bool autoProbe;        // an unconfigured scene gets a box probe fitted to its bounds
     DebugView debugView;
 };
@@ -74,6 +75,10 @@ struct PlanarSet {
     TextureHandle images;  // RGBA16F 2D array: rgb the mirrored view's radiance, a the reflected distance (m)
     BufferHandle records;  // shader::PlanarProbe[count]
     uint32_t count = 0;    // 0: none faces this view (or off); the handles still name valid arrays
+    // The planar probes' grounds (shader::PlanarGround; probes/shaders/ground.glsl), view-independent.
+    TextureHandle ground;         // RGBA16F 2D array: rgb the plane's radiance premultiplied by a, its coverage
+    BufferHandle groundRecords;   // shader::PlanarGround[groundCount]
+    uint32_t groundCount = 0;     // 0: none (or off)
 };
 
 // What the module hands to the next one: valid handles in the graph they were added to.
@@ -121,6 +126,10 @@ glm::mat4 reflectionMatrix(glm::vec4 plane);
 // is orthographic or its eye is not in front of the plane.
 bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t width, uint32_t height,
                     float clipOffset, render::CameraState& out);
+// The orthographic camera of a planar probe's ground (probe.h, PlanarGround): straight down the
+// normal from 50 m above the origin, the rectangle filling its size x size image, depth the plane
+// +-2 cm. A point of the rectangle lands in clip x and y within [-1, 1], at depth 0.5.
+render::CameraState groundCamera(const PlanarInfo& info, uint32_t size);
 
 // Orders probes as the blend walks them: higher `order` first, then the smaller volume.
 void sortForBlending(std::vector<ProbeInfo>& probes);
