@@ -272,7 +272,7 @@ void EditorApp::addPlanarAtPick() {
     ReflectionProbe probe;
     probe.kind = ProbeKind::Planar;
     probe.blendDistance = 0.0f;
-    probe.resolution = 0;  // half the view's height
+    probe.resolution = 0;  // probes.planar_scale of the view's height (half by default)
     probe.extents = glm::vec3(0.05f, 0.05f, 1.0f);
     for (int k = 0; k < 8; ++k) {
         glm::vec3 corner((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);

@@ -48,9 +48,11 @@ static_assert(sizeof(GroundPush) == 112, "lavapipe's push constant limit");
 constexpr float kGroundHeight = 50.0f;
 constexpr float kGroundSlab = 0.02f;
 
-// The planar image's height for a view `viewHeight` tall: the probe's resolution, or half the view's.
-uint32_t planarHeight(const PlanarInfo& p, uint32_t viewHeight) {
-    return p.probe.resolution > 0 ? p.probe.resolution : std::max(viewHeight / 2, 1u);
+// The planar image's height for a view `viewHeight` tall: the probe's resolution, or
+// probes.planar_scale of the view's (half by default).
+uint32_t planarHeight(const PlanarInfo& p, uint32_t viewHeight, float scale) {
+    return p.probe.resolution > 0 ? p.probe.resolution
+                                  : std::max(uint32_t(std::lround(double(viewHeight) * double(scale))), 1u);
 }
 
 // Box mips for glossy lobes below mip `first` of `layer`: each level a linear blit of the one
@@ -270,7 +272,7 @@ void Probes::Impl::allocatePlanar(uint32_t width, uint32_t height) {
     s.height = height;
     s.valid = false;  // new images: the next renderPlanar renders whatever its interval
     uint32_t h = 4;
-    for (const PlanarInfo& p : s.list) h = std::max(h, planarHeight(p, height));
+    for (const PlanarInfo& p : s.list) h = std::max(h, planarHeight(p, height, settings.planarScale));
     const uint32_t limit = ctx.properties().limits.maxImageDimension2D;
     h = std::min(h, limit);
     // The view's aspect: the mirrored camera keeps the view's projection.
@@ -344,7 +346,7 @@ void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
     for (size_t i = 0; i < s.list.size(); ++i) {
         const PlanarInfo& info = s.list[i];
         // A probe below the array's height renders at the mip nearest its own.
-        const double ratio = double(d.height) / double(planarHeight(info, cam.height));
+        const double ratio = double(d.height) / double(planarHeight(info, cam.height, m.settings.planarScale));
         const uint32_t base = std::min(uint32_t(std::max(0L, std::lround(std::log2(ratio)))), d.mips - 1);
         const uint32_t w = std::max(d.width >> base, 1u), h = std::max(d.height >> base, 1u);
         render::FrameInputs mirrored;

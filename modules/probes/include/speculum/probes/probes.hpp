@@ -42,6 +42,7 @@ struct ProbeSettings {
     int prefilterSamples;  // GGX samples per texel of the rough mips
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     int planarInterval;    // planar probes render every this many frames (renderPlanar)
+    float planarScale;     // a planar image's height over the view's, where the probe sets none
     int planarGround;      // a planar probe's ground image size (0: none)
     bool autoProbe;        // an unconfigured scene gets a box probe fitted to its bounds
     DebugView debugView;
