@@ -40,9 +40,9 @@ struct GroundPush {
 };
 static_assert(sizeof(GroundPush) == 112, "lavapipe's push constant limit");
 
-// The ground's orthographic camera stands this far above the plane: the lighting's view vector
-// is then within 5 degrees of the normal over an 8 m rectangle (a light's highlight lands under
-// it). Its depth range is the plane +-2 cm: the plane's triangles within the planar probe's 1 cm
+// The ground's orthographic camera stands this far above the plane. render.lighting takes an
+// orthographic view's v along its rays (the normal); probes.capture_bounce takes it from this
+// eye, within 5 degrees of the normal over an 8 m rectangle. Its depth range is the plane +-2 cm: the plane's triangles within the planar probe's 1 cm
 // tolerance are drawn, and of an object standing on it only what lies in that slab (a sphere's
 // bottom, 15 cm across for a 60 cm radius, which the normal test then leaves out).
 constexpr float kGroundHeight = 50.0f;
