@@ -173,7 +173,6 @@ void Probes::Impl::createGrounds() {
     // The scene's lights (ids 0-287): the store takes out the view's direct specular.
     s.groundStore = gpu::createComputePipeline(ctx, "probes/ground_store.comp", sizeof(GroundPush), "probes.ground_store",
                                                renderer.lightingConstants());
-    s.groundValid = !any;
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
         gpu::transition(cmd, s.ground.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
         VkClearColorValue zero{};

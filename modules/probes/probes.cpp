@@ -309,8 +309,9 @@ double Probes::cmoCaptureMs() const { return impl_->cmo->ms; }
 
 void Probes::requestUpdate(int probe) {
     Impl& m = *impl_;
-    // The whole scene changed (an edit, a taken gem): the grounds too.
-    if (probe < 0) m.planar.groundValid = m.planar.list.empty() || m.settings.planarGround <= 0;
+    // The whole scene changed (an edit, a taken gem): the grounds too (renderGrounds returns at
+    // once where there are none).
+    if (probe < 0) m.planar.groundValid = false;
     for (size_t i = 0; i < m.pending.size(); ++i)
         if (probe < 0 || size_t(probe) == i) m.pending[i] = true;
     // CMOs follow the local probes in this numbering.
@@ -379,7 +380,7 @@ void restartCycle(int& next, std::vector<bool>::reference again) {
 
 void Probes::recapture(int probe) {
     Impl& m = *impl_;
-    if (probe < 0) m.planar.groundValid = m.planar.list.empty() || m.settings.planarGround <= 0;
+    if (probe < 0) m.planar.groundValid = false;
     for (size_t i = 0; i < m.probes.size(); ++i)
         if (probe < 0 || size_t(probe) == i) restartCycle(m.relocating[i], m.movedAgain[i]);
     // A CMO in place keeps `ready`: its distances stay relative to the same centre.
