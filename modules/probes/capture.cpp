@@ -46,9 +46,12 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
                                  pl.ground.desc().usage});
     BufferHandle groundRecs = fg.importBuffer("probes.ground_records", {pl.groundRecords.size()},
                                               {pl.groundRecords.get()});
+    c.distances = fg.importTexture("probes.distances", descOf(distances),
+                                   {distances.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                    distances.desc().usage});
     struct Bounce {
         render::GBuffer g;
-        TextureHandle lit, array, ground, out;
+        TextureHandle lit, array, ground, distances, out;
         BufferHandle recs, groundRecs;
     };
     const uint32_t visible = readyCount();
@@ -63,6 +66,7 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
             d.array = pb.read(array, TextureUsage::Sampled);
             d.recs = pb.read(recs, BufferUsage::StorageRead);
             d.ground = pb.read(c.ground, TextureUsage::Sampled);
+            d.distances = pb.read(c.distances, TextureUsage::Sampled);
             d.groundRecs = pb.read(groundRecs, BufferUsage::StorageRead);
             d.out = pb.write(pb.create("probes.face", {.format = render::kLinearFormat}), TextureUsage::StorageWrite);
         },
@@ -77,6 +81,7 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
                 .sampled("dfgTex", env.dfg().view(), env.sampler())
                 .buffer("ProbeBuffer", pc.buffer(d.recs))
                 .sampled("probeCubes", pc.view(d.array, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), sampler)
+                .sampled("probeDistance", pc.view(d.distances, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), nearest)
                 .sampled("envSpecular", env.specular().view(), env.sampler())
                 .storage("outLit", pc.view(d.out))
                 .buffer("GroundBuffer", pc.buffer(d.groundRecs))
@@ -89,6 +94,32 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
         });
     c.face = b.out;
     return c;
+}
+
+void Probes::Impl::addDistanceStore(FrameGraph& fg, const CaptureFace& c, size_t index, uint32_t face, uint32_t res) {
+    TextureHandle target = c.distances;
+    struct Store {
+        TextureHandle depth, out;
+    };
+    const auto camera = c.frame.camera;
+    const auto& s = fg.addPass<Store>(
+        "probes.distance_store", PassType::Compute,
+        [&](PassBuilder& pb, Store& d) {
+            d.depth = pb.read(c.g.depth, TextureUsage::Sampled);
+            d.out = pb.write(target, TextureUsage::StorageWrite);
+        },
+        [this, camera, index, face, res](const Store& d, PassContext& pc) {
+            distanceStore.bind(pc.cmd());
+            gpu::DescriptorWriter()
+                .sampled("depthTex", pc.view(d.depth), nearest)
+                .storage("outDistance", pc.view(d.out, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY))
+                .push(ctx, pc.cmd(), distanceStore);
+            BouncePush p{camera.invViewProj, glm::vec4(camera.position, 0.0f),
+                         glm::uvec4(res, faceSize, face, uint32_t(6 * index))};
+            vkCmdPushConstants(pc.cmd(), distanceStore.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
+            vkCmdDispatch(pc.cmd(), (faceSize + 7) / 8, (faceSize + 7) / 8, 1);
+        });
+    fg.markOutput(s.out);
 }
 
 double Probes::Impl::runCapture(FrameGraph& fg) {
@@ -130,6 +161,7 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
                            VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
         });
     fg.markOutput(s.cube);
+    addDistanceStore(fg, c, index, face, res);
     ms += runCapture(fg);
     ++faces;
 }

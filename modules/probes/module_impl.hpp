@@ -43,6 +43,11 @@ struct Probes::Impl {
     // bake. Re-bakes after that (a moved probe, a taken gem) copy their new bake: one bounce
     // deeper, but never stale.
     gpu::Image below;
+    // The captured distance (m) from each probe's capture point, a cube of the array per probe at
+    // the array's face size, mip 0 only, R16F, 65504 at the sky (probes.distance_store; GENERAL
+    // between uses): narrow lobes find their hit on it instead of on the proxy (probes.glsl).
+    gpu::Image distances;
+    gpu::Pipeline distanceStore;
     bool lastRound = false;  // update(): the first bake's last round, which `below` does not keep
     std::vector<gpu::Image> radiance;  // per probe: its resolution, full chain, GENERAL between uses
     std::vector<std::vector<gpu::Unique<VkImageView>>> targetViews;  // [probe][mip] cube views of the array
@@ -137,6 +142,7 @@ struct Probes::Impl {
         render::GBuffer g;
         TextureHandle face;
         TextureHandle ground;  // the planar grounds as imported (probes.capture_bounce reads them)
+        TextureHandle distances;  // the probes' distance cubes as imported (read there too)
     };
     CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
     // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.
@@ -146,6 +152,8 @@ struct Probes::Impl {
     void allocateBelow();
     // Copies probe `index`'s cube of `cubes` into `below`.
     void keepBelow(size_t index);
+    // probes.distance_store after face `face` of probe `index` (res its resolution) in `c`.
+    void addDistanceStore(FrameGraph& fg, const CaptureFace& c, size_t index, uint32_t face, uint32_t res);
     // Compiles and runs a capture graph; returns its GPU milliseconds.
     double runCapture(FrameGraph& fg);
 

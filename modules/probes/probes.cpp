@@ -146,6 +146,7 @@ Probes::Impl::Impl(const gpu::Context& c, render::Renderer& r, const ProbeSettin
       sampler(gpu::createSampler(c, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, true)),
       nearest(gpu::createSampler(c, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, false)),
       bounce(gpu::createComputePipeline(c, "probes/capture_bounce.comp", 96, "probes.capture_bounce")),
+      distanceStore(gpu::createComputePipeline(c, "probes/distance_store.comp", 96, "probes.distance_store")),
       filter(c), allocator(c.physicalDevice(), c.device()),
       executor(c.instance(), c.physicalDevice(), c.device(), c.timestampPeriodNs()) {
     const Scene& scene = r.scene();
@@ -200,6 +201,10 @@ void Probes::Impl::allocate() {
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
         VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     cubes = gpu::Image(ctx, {faceSize, faceSize, kCubeFormat, mips, 6 * count, true, usage}, "probes.cubes");
+    distances = gpu::Image(ctx, {faceSize, faceSize, VK_FORMAT_R16_SFLOAT, 1, 6 * count, true,
+                                 VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                     VK_IMAGE_USAGE_TRANSFER_SRC_BIT},  // SRC: the tests read it back
+                           "probes.distances");
     for (size_t i = 0; i < probes.size(); ++i) {
         uint32_t res = probes[i].probe.resolution;
         radiance.emplace_back(ctx, gpu::ImageDesc{res, res, kCubeFormat, uint32_t(std::bit_width(res)), 6, true, usage},
@@ -216,7 +221,7 @@ void Probes::Impl::allocate() {
             views.emplace_back(ctx.device(), view, vkDestroyImageView);
         }
         targetViews.push_back(std::move(views));
-        probes[i].gpu.params = glm::vec4(float(i), float(mips - 1), 0.0f, 0.0f);
+        probes[i].gpu.params = glm::vec4(float(i), float(mips - 1), float(settings.distanceSteps), 0.0f);
     }
     steps = render::planPrefilterSteps(faceSize, mips, 0, uint32_t(settings.prefilterSamples),
                                        uint64_t(settings.prefilterSlice) * 1024);
@@ -235,6 +240,10 @@ void Probes::Impl::allocate() {
         vkCmdClearColorImage(cmd, cubes.get(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
         gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        // The sky everywhere until a capture writes a face.
+        VkClearColorValue far{{65504.0f, 0.0f, 0.0f, 0.0f}};
+        gpu::transition(cmd, distances.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+        vkCmdClearColorImage(cmd, distances.get(), VK_IMAGE_LAYOUT_GENERAL, &far, 1, &all);
         for (const gpu::Image& r : radiance) {
             gpu::transition(cmd, r.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
             vkCmdClearColorImage(cmd, r.get(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &all);
@@ -301,6 +310,7 @@ const std::vector<CmoInfo>& Probes::cmos() const { return impl_->cmo->list; }
 const gpu::Image& Probes::cmoDistance() const { return impl_->cmo->distance; }
 const gpu::Image& Probes::cmoRadiance() const { return impl_->cmo->radiance; }
 const gpu::Image& Probes::cubes() const { return impl_->cubes; }
+const gpu::Image& Probes::distances() const { return impl_->distances; }
 size_t Probes::timeSlicedCycle() const { return impl_->timeSlicedCycle(); }
 size_t Probes::facesCaptured() const { return impl_->faces; }
 double Probes::captureMs() const { return impl_->ms; }
@@ -460,6 +470,9 @@ ProbeSet Probes::addPasses(FrameGraph& graph, bool enabled, bool cmos) {
                                      .layers = d.layers, .cube = true},
                                     {m.cubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, d.usage});
+    set.distances = graph.importTexture("probes.distances", descOf(m.distances),
+                                        {m.distances.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                                         m.distances.desc().usage});
     set.records = graph.importBuffer("probes.records", {m.records.size()}, {m.records.get()});
     set.count = enabled ? m.readyCount() : 0;
     const Impl::CmoState& c = *m.cmo;

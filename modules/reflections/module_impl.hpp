@@ -188,7 +188,7 @@ struct Reflections::Impl {
     // The fallback chain past screen space, as the passes that evaluate it (resolve, lookup_full)
     // read it: the local probes, the planar probes and their grounds, and (bindChain) the sky.
     struct ChainReads {
-        TextureHandle probeCubes, planar, ground;
+        TextureHandle probeCubes, planar, ground, probeDistances;
         BufferHandle probeRecords, planarRecords, groundRecords;
     };
     static ChainReads readChain(PassBuilder& b, const probes::ProbeSet& set);

@@ -422,8 +422,8 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
 // The probe sets are the host's, or the dummies Reflections::addPasses imports when it gave none.
 Reflections::Impl::ChainReads Reflections::Impl::readChain(PassBuilder& b, const probes::ProbeSet& set) {
     return {b.read(set.cubes, TextureUsage::Sampled), b.read(set.planar.images, TextureUsage::Sampled),
-            b.read(set.planar.ground, TextureUsage::Sampled), b.read(set.records, BufferUsage::StorageRead),
-            b.read(set.planar.records, BufferUsage::StorageRead),
+            b.read(set.planar.ground, TextureUsage::Sampled), b.read(set.distances, TextureUsage::Sampled),
+            b.read(set.records, BufferUsage::StorageRead), b.read(set.planar.records, BufferUsage::StorageRead),
             b.read(set.planar.groundRecords, BufferUsage::StorageRead)};
 }
 
@@ -432,6 +432,9 @@ void Reflections::Impl::bindChain(gpu::DescriptorWriter& w, PassContext& pc, con
     w.sampled("envSpecular", env.specular().view(), env.sampler())
         .buffer("ProbeBuffer", pc.buffer(r.probeRecords))
         .sampled("probeCubes", pc.view(r.probeCubes, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
+        // Nearest: a bilinear distance at a silhouette blends the near surface with the far one,
+        // and the march then finds neither (cornell_mirrors' rough band lost its +1.7 dB that way).
+        .sampled("probeDistance", pc.view(r.probeDistances, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), nearest)
         .buffer("PlanarBuffer", pc.buffer(r.planarRecords))
         .sampled("planarImages", pc.view(r.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
         .buffer("GroundBuffer", pc.buffer(r.groundRecords))

@@ -87,6 +87,12 @@ probes::ProbeSet Reflections::Impl::importNoProbes(FrameGraph& g) const {
                         {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
                         {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
+    // Never read (count 0): the same black cube under its own name.
+    set.distances =
+        g.importTexture("reflections.no_probe_distances",
+                        {.width = 4, .height = 4, .format = VK_FORMAT_R16G16B16A16_SFLOAT, .layers = 6, .cube = true},
+                        {noProbeCubes.get(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, noProbeCubes.desc().usage});
     set.records = g.importBuffer("reflections.no_probe_records", {sizeof(probes::shader::Probe)}, {noProbeRecords.get()});
     set.planar = importNoPlanar(g);
     return set;

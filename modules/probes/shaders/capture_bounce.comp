@@ -10,6 +10,7 @@
 // cube's capture point cannot see past the object.
 #define PROBES_BUFFER_BINDING 6
 #define PROBES_CUBES_BINDING 7
+#define PROBES_DISTANCE_BINDING 12
 #define GROUND_BUFFER_BINDING 10
 #define GROUND_IMAGES_BINDING 11
 #include "common/brdf.glsl"

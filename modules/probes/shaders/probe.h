@@ -12,7 +12,7 @@ struct Probe {
     mat4 worldToLocal;  // the probe node's inverse world transform: its shapes live in node space
     vec4 center;        // xyz capture point (world), w shape (0 box, 1 sphere)
     vec4 extents;       // xyz half-extents in node space (sphere: radius in x), w blend distance
-    vec4 params;        // x cube index in the array, y the array's last mip, zw unused
+    vec4 params;        // x cube index in the array, y the array's last mip, z probes.distance_steps, w unused
 };
 
 // A planar probe's record (modules/probes/planar.cpp writes them each frame, planar.glsl reads

@@ -3,7 +3,9 @@
 // the fallback chain's probe step: per pixel, probes in priority order (the buffer is sorted by
 // order, then by smallest volume) are blended by their influence weights until the weight
 // reaches 1; the caller gives the rest to the sky. Before including, define
-// PROBES_BUFFER_BINDING and PROBES_CUBES_BINDING (set 0).
+// PROBES_BUFFER_BINDING and PROBES_CUBES_BINDING (set 0), and PROBES_DISTANCE_BINDING for the
+// captured distances (probeSurfaceT; without it, the proxy alone: the debug views and the
+// proxy's own GPU test).
 #ifndef SPECULUM_PROBES_GLSL
 #define SPECULUM_PROBES_GLSL
 
@@ -13,6 +15,14 @@ layout(set = 0, binding = PROBES_BUFFER_BINDING, std430) readonly buffer ProbeBu
     Probe probes[];
 };
 layout(set = 0, binding = PROBES_CUBES_BINDING) uniform samplerCubeArray probeCubes;
+#ifdef PROBES_DISTANCE_BINDING
+layout(set = 0, binding = PROBES_DISTANCE_BINDING) uniform samplerCubeArray probeDistance;  // nearest
+#endif
+
+// Lobes up to this roughness find their hit on the captured distances (probeSurfaceT): the
+// mirror band. Every roughness scored the same (cornell_mirrors, closed_room, gallery,
+// plain_metals: rough bands within 0.03 dB), so wider lobes keep the proxy and its cost.
+const float kProbeSurfaceMaxRoughness = 0.3;
 
 // Influence of a probe at world point p with unit normal n: 1 inside the shape, falling linearly
 // to 0 at the blend distance outside it (distances in node space). The blend zone lies outside
@@ -48,6 +58,65 @@ float probeProxyT(Probe pr, vec3 p, vec3 r) {
     return max(pr.center.w < 0.5 ? tBox : tSphere, 0.0);
 }
 
+// The hit of ray p + t r (r unit) on what the probe captured (probes.distance_store), from the
+#ifdef PROBES_DISTANCE_BINDING
+// How far q (from the capture point) lies behind what the capture point saw toward it: < 0 in
+// front of the captured surface, > 0 behind it (the sky is 65504 m away: always in front).
+float probeBehind(Probe pr, vec3 q) {
+    return length(q) - textureLod(probeDistance, vec4(q, pr.params.x), 0.0).r;
+}
+
+// What counts as on the captured surface at distance len: 3% (about three 128^2 texels' width
+// of slant) and 2 cm (R16F's step at 32 m is 3 cm).
+float probeSlack(float len) {
+    return 0.03 * len + 0.02;
+}
+
+// The hit of ray p + t r (r unit) on what the probe captured (probes.distance_store): the ray is
+// walked from the pixel to the proxy's t in params.z (probes.distance_steps) equal steps; the
+// first step from clearly in front of the captured surface to behind it is refined by two secant
+// steps (distance impostors: Szirmay-Kalos et al., "Approximate Ray-Tracing on the GPU with
+// Distance Impostors", 2005). A refined point off the surface by more than probeSlack is the ray
+// passing behind a silhouette as the capture point sees it, not a hit, and the walk goes on.
+// Without a hit the proxy's t is kept: the walk never answers worse than the box where it finds
+// nothing; it misses what is thinner than a step (README, failure modes).
+float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy) {
+    vec3 o = p - pr.center.xyz;
+    int steps = int(pr.params.z);
+    // The first point clears the pixel's own surface, which the capture point may see.
+    float tPrev = 0.02 * tProxy;
+    float fPrev = probeBehind(pr, o + r * tPrev);
+    float found = tProxy;
+    bool done = false;
+    for (int k = 1; k <= steps; ++k) {
+        float t = tProxy * float(k) / float(steps);
+        float f = probeBehind(pr, o + r * t);
+        if (!done && fPrev < -probeSlack(length(o + r * tPrev)) && f >= 0.0) {
+            float lo = tPrev, hi = t, flo = fPrev, fhi = f, ts = lo;
+            for (int j = 0; j < 2; ++j) {
+                ts = lo + (hi - lo) * (-flo) / max(fhi - flo, 1e-6);
+                float fs = probeBehind(pr, o + r * ts);
+                if (fs < 0.0) {
+                    lo = ts;
+                    flo = fs;
+                } else {
+                    hi = ts;
+                    fhi = fs;
+                }
+            }
+            done = abs(flo) <= probeSlack(length(o + r * lo)) || abs(fhi) <= probeSlack(length(o + r * hi));
+            found = done ? ts : found;
+        }
+        tPrev = t;
+        fPrev = f;
+    }
+    // A hit on the proxy itself (a room's wall on its box) takes the proxy's exact t: the march's
+    // is the distance cube's, a texel and a half-float step coarser, and moved the room's
+    // reflected corners by a pixel (accuracy.registration, flat_screen_space).
+    return abs(found - tProxy) <= probeSlack(length(o + r * tProxy)) ? tProxy : found;
+}
+#endif
+
 vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
     return p + r * probeProxyT(pr, p, r) - pr.center.xyz;
 }
@@ -67,6 +136,9 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         Probe pr = probes[i];
         float w = max(min(probeInfluence(pr, p, n), 1.0 - total), 0.0);
         float t = probeProxyT(pr, p, r);
+#ifdef PROBES_DISTANCE_BINDING
+        if (roughness < kProbeSurfaceMaxRoughness && pr.params.z > 0.0) t = probeSurfaceT(pr, p, normalize(r), t);
+#endif
         vec4 c = textureLod(probeCubes, vec4(p + r * t - pr.center.xyz, pr.params.x), roughness * pr.params.y);
         sum += c.rgb * w;
         covered += c.a * w;

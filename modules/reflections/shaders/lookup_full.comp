@@ -16,6 +16,7 @@
 #include "reflections/shaders/material.glsl"
 #define PROBES_BUFFER_BINDING 11
 #define PROBES_CUBES_BINDING 12
+#define PROBES_DISTANCE_BINDING 25
 #include "probes/shaders/probes.glsl"
 #define PLANAR_BUFFER_BINDING 16
 #define PLANAR_IMAGES_BINDING 17
