@@ -99,19 +99,25 @@ Probes::Impl::CaptureFace Probes::Impl::addCaptureView(FrameGraph& fg, const ren
 void Probes::Impl::addDistanceStore(FrameGraph& fg, const CaptureFace& c, size_t index, uint32_t face, uint32_t res) {
     TextureHandle target = c.distances;
     struct Store {
-        TextureHandle depth, out;
+        TextureHandle depth, normal, albedo, emissive, out;
     };
     const auto camera = c.frame.camera;
     const auto& s = fg.addPass<Store>(
         "probes.distance_store", PassType::Compute,
         [&](PassBuilder& pb, Store& d) {
             d.depth = pb.read(c.g.depth, TextureUsage::Sampled);
+            d.normal = pb.read(c.g.normal, TextureUsage::Sampled);
+            d.albedo = pb.read(c.g.albedo, TextureUsage::Sampled);
+            d.emissive = pb.read(c.g.emissive, TextureUsage::Sampled);
             d.out = pb.write(target, TextureUsage::StorageWrite);
         },
         [this, camera, index, face, res](const Store& d, PassContext& pc) {
             distanceStore.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.depth), nearest)
+                .sampled("normalTex", pc.view(d.normal), nearest)
+                .sampled("albedoTex", pc.view(d.albedo), nearest)
+                .sampled("emissiveTex", pc.view(d.emissive), nearest)
                 .storage("outDistance", pc.view(d.out, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY))
                 .push(ctx, pc.cmd(), distanceStore);
             BouncePush p{camera.invViewProj, glm::vec4(camera.position, 0.0f),

@@ -201,7 +201,7 @@ void Probes::Impl::allocate() {
         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
         VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     cubes = gpu::Image(ctx, {faceSize, faceSize, kCubeFormat, mips, 6 * count, true, usage}, "probes.cubes");
-    distances = gpu::Image(ctx, {faceSize, faceSize, VK_FORMAT_R16_SFLOAT, 1, 6 * count, true,
+    distances = gpu::Image(ctx, {faceSize, faceSize, VK_FORMAT_R16G16B16A16_SFLOAT, 1, 6 * count, true,
                                  VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                      VK_IMAGE_USAGE_TRANSFER_SRC_BIT},  // SRC: the tests read it back
                            "probes.distances");
@@ -241,7 +241,7 @@ void Probes::Impl::allocate() {
         gpu::transition(cmd, cubes.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_GENERAL,
                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         // The sky everywhere until a capture writes a face.
-        VkClearColorValue far{{65504.0f, 0.0f, 0.0f, 0.0f}};
+        VkClearColorValue far{{65504.0f, 0.0f, 0.0f, 0.0f}};  // no mirror either
         gpu::transition(cmd, distances.get(), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
         vkCmdClearColorImage(cmd, distances.get(), VK_IMAGE_LAYOUT_GENERAL, &far, 1, &all);
         for (const gpu::Image& r : radiance) {

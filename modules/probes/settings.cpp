@@ -48,8 +48,10 @@ const SettingFields<ProbeSettings>& ProbeSettings::fields() {
          "ray to the proxy and two secant steps, instead of on the proxy's box or sphere: objects "
          "inside the probe's volume land where they are seen from the pixel, not from the "
          "capture point (cornell_mirrors' rough band +1.7 to +2.4 dB through its re-baked chrome, "
-         "plain_metals' mirror band +0.34). 0: the proxy alone. An object thinner than a step "
-         "is missed; 8 and 16 steps found no more (modules/probes/MEASUREMENTS.md)."}),
+         "plain_metals' mirror band +0.34); a ray of the chain that lands on a captured smooth "
+         "metal reflects again there (failure_cases' mirror band +1.07). 0: the proxy alone. "
+         "An object thinner than a step is missed; 8 and 16 steps found no more "
+         "(modules/probes/MEASUREMENTS.md)."}),
         bind<&P::debugView>({"probes.debug_view", T::Enum, "", 0, 2, 0, {"none", "influence", "winner"},
          "Replace the image with the probes' blend (each probe's colour times its share, the sky "
          "dark blue) or the probe with the largest share."}),

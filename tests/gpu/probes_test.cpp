@@ -279,7 +279,8 @@ TEST_F(ProbesGpu, CapturedFaceEqualsDirectRenderOfTheFaceCamera) {
 }
 
 // 1b. A probe's distance cube (probes.distance_store, read by probeSurfaceT) holds, per texel,
-// the distance from the capture point to what the face's camera saw there: the renderer's own
+// the distance from the capture point to what the face's camera saw there (and in gba a smooth
+// metal's normal times its F0, nothing on the sky): the renderer's own
 // depth at that face camera, unprojected on the CPU, within half a percent (R16F keeps 11 bits),
 // and 65504 exactly where it saw the sky. The gallery has sky on its open side; the closed room
 // has the objects inside its box, whose distances the box proxy cannot know.
@@ -295,10 +296,10 @@ TEST_F(ProbesGpu, DistanceCubeHoldsTheCapturedSurfacesDistance) {
         const uint32_t res = info.probe.resolution;
         const gpu::Image& distances = module.distances();
         ASSERT_EQ(distances.desc().width, res) << name;
-        ASSERT_EQ(distances.desc().format, VK_FORMAT_R16_SFLOAT) << name;
+        ASSERT_EQ(distances.desc().format, VK_FORMAT_R16G16B16A16_SFLOAT) << name;
         const glm::vec3 center(info.gpu.center);
         app::FrameRunner runner(*ctx_, renderer, res, res);
-        size_t sky = 0, near = 0, off = 0, total = 0;
+        size_t sky = 0, near = 0, off = 0, total = 0, mirrors = 0, badMirrors = 0;
         for (uint32_t face = 0; face < 6; ++face) {
             std::vector<float> stored =
                 gpu::readImageRGBA(*ctx_, distances.get(), distances.desc(), VK_IMAGE_LAYOUT_GENERAL, 0, face);
@@ -312,11 +313,16 @@ TEST_F(ProbesGpu, DistanceCubeHoldsTheCapturedSurfacesDistance) {
                     const float d = depth[(size_t(py) * res + x) * 4];
                     const float got = stored[(size_t(y) * res + x) * 4];
                     ++total;
+                    // gba: a smooth metal's normal times its mean F0, else 0 (probeMirrorAt).
+                    const float* m = &stored[(size_t(y) * res + x) * 4 + 1];
+                    const float f0 = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
                     if (d <= 0.0f) {
                         ++sky;
-                        off += got != 65504.0f;
+                        off += got != 65504.0f || f0 != 0.0f;
                         continue;
                     }
+                    mirrors += f0 > 0.0f;
+                    badMirrors += f0 > 1.0f;
                     glm::vec2 ndc((float(x) + 0.5f) / float(res) * 2.0f - 1.0f, (float(py) + 0.5f) / float(res) * 2.0f - 1.0f);
                     glm::vec4 w = cam.invViewProj * glm::vec4(ndc, d, 1.0f);
                     const float expected = glm::length(glm::vec3(w) / w.w - center);
@@ -325,8 +331,11 @@ TEST_F(ProbesGpu, DistanceCubeHoldsTheCapturedSurfacesDistance) {
                 }
         }
         std::cout << "[probes] " << name << " distances: " << near << " texels on geometry, " << sky
-                  << " on the sky, " << off << " off\n";
+                  << " on the sky, " << off << " off, " << mirrors << " on smooth metals\n";
         EXPECT_GT(near, total / 4) << name;
+        // Both rooms hold chrome objects in the probe's view; an F0 is at most 1.
+        EXPECT_GT(mirrors, 100u) << name;
+        EXPECT_EQ(badMirrors, 0u) << name;
         // A texel's direction meets the face camera's pixel grid at the pixel's centre; a
         // hair's difference in rounding at a silhouette picks the neighbour: 0.1% at most.
         EXPECT_LE(double(off), 0.001 * double(total)) << name;

@@ -11,6 +11,7 @@
 #define PROBES_BUFFER_BINDING 6
 #define PROBES_CUBES_BINDING 7
 #define PROBES_DISTANCE_BINDING 12
+#define PROBES_CAPTURE
 #define GROUND_BUFFER_BINDING 10
 #define GROUND_IMAGES_BINDING 11
 #include "common/brdf.glsl"
@@ -49,8 +50,9 @@ void main() {
         vec3 v = normalize(pc.eye.xyz - p);
         vec3 r = reflect(-v, n);
         float proxy;
-        vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy);
-        vec3 sky = textureLod(envSpecular, r, nr.w * pc.eye.w).rgb;
+        vec3 skyDir;
+        vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy, skyDir);
+        vec3 sky = textureLod(envSpecular, skyDir, nr.w * pc.eye.w).rgb;
         probe = groundOverProbes(pc.info.w, p, r, nr.w, probe, proxy);
         vec3 radiance = probe.rgb + (1.0 - probe.a) * sky;
         vec4 albedo = texelFetch(albedoTex, pixel, 0);

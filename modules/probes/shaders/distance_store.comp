@@ -11,8 +11,11 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0) uniform sampler2D depthTex;  // the face's depth (nearest)
-layout(set = 0, binding = 1, r16f) uniform writeonly image2DArray outDistance;
+layout(set = 0, binding = 0) uniform sampler2D depthTex;     // the face's depth (nearest), and its G-buffer:
+layout(set = 0, binding = 2) uniform sampler2D normalTex;    // xyz normal, w roughness
+layout(set = 0, binding = 3) uniform sampler2D albedoTex;    // rgb base colour, a metallic
+layout(set = 0, binding = 4) uniform sampler2D emissiveTex;  // a: flags | material << 2
+layout(set = 0, binding = 1, rgba16f) uniform writeonly image2DArray outDistance;
 
 layout(push_constant) uniform Push {
     mat4 invViewProj;  // the face's camera
@@ -29,6 +32,14 @@ void main() {
     ivec2 pixel = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
     float depth = texelFetch(depthTex, pixel, 0).r;
     float dist = 65504.0;
-    if (depth > 0.0) dist = min(distance(worldFromDepth(pixelCenterUV(pixel, size), depth, pc.invViewProj), pc.eye.xyz), 65000.0);
-    imageStore(outDistance, ivec3(texel, int(pc.info.w + pc.info.z)), vec4(dist));
+    vec3 mirror = vec3(0.0);
+    if (depth > 0.0) {
+        dist = min(distance(worldFromDepth(pixelCenterUV(pixel, size), depth, pc.invViewProj), pc.eye.xyz), 65000.0);
+        // A smooth reflective metal: its normal times its mean F0 (probeMirrorAt).
+        vec4 nr = texelFetch(normalTex, pixel, 0);
+        vec4 albedo = texelFetch(albedoTex, pixel, 0);
+        uint flags = uint(texelFetch(emissiveTex, pixel, 0).a) & 3u;
+        if (flags == 2u && albedo.a >= 0.5 && nr.w < 0.3) mirror = normalize(nr.xyz) * dot(albedo.rgb, vec3(1.0 / 3.0));
+    }
+    imageStore(outDistance, ivec3(texel, int(pc.info.w + pc.info.z)), vec4(dist, mirror));
 }

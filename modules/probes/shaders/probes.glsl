@@ -23,6 +23,16 @@ layout(set = 0, binding = PROBES_DISTANCE_BINDING) uniform samplerCubeArray prob
 // mirror band. Every roughness scored the same (cornell_mirrors, closed_room, gallery,
 // plain_metals: rough bands within 0.03 dB), so wider lobes keep the proxy and its cost.
 const float kProbeSurfaceMaxRoughness = 0.3;
+#ifdef PROBES_DISTANCE_BINDING
+// Whether a hit on a captured mirror reflects again (sampleProbes). Only in the main view's
+// chain: a capture's surfaces are already a reflection deep, and a further bounce there went past
+// the reference's (--bounces 2: gallery.main's planar floor 22.63 -> 22.02 dB).
+#ifdef PROBES_CAPTURE
+const bool kProbeMirrorHits = false;
+#else
+const bool kProbeMirrorHits = true;
+#endif
+#endif
 
 // Influence of a probe at world point p with unit normal n: 1 inside the shape, falling linearly
 // to 0 at the blend distance outside it (distances in node space). The blend zone lies outside
@@ -127,27 +137,55 @@ vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
 // the caller gives 1 - a to the sky.
 // `proxyDistance`: the influence-weighted distance along r to the probes' proxies (0 where no
 // probe reaches p), which the temporal pass reprojects the reflection by.
-vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float proxyDistance) {
+vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float proxyDistance, out vec3 skyDir) {
     vec3 sum = vec3(0.0);
     float covered = 0.0;
     float total = 0.0;
     float distanceSum = 0.0;
+    float skyWeight = 0.0;
+    skyDir = r;
     for (uint i = 0u; i < count; ++i) {
         Probe pr = probes[i];
         float w = max(min(probeInfluence(pr, p, n), 1.0 - total), 0.0);
         float t = probeProxyT(pr, p, r);
+        vec3 o = p, d = r;
+        float F = 1.0;
 #ifdef PROBES_DISTANCE_BINDING
-        if (roughness < kProbeSurfaceMaxRoughness && pr.params.z > 0.0) t = probeSurfaceT(pr, p, normalize(r), t);
+        if (roughness < kProbeSurfaceMaxRoughness && pr.params.z > 0.0) {
+            vec3 ru = normalize(r);
+            t = probeSurfaceT(pr, p, ru, t);
+            // A captured mirror where the ray lands (a smooth metal: the distance cube's gba is
+            // its normal times its mean F0) holds its reflection toward the capture point, not
+            // along this ray: the ray reflects there and reads the cube again, from the proxy.
+            vec3 q = p + ru * t - pr.center.xyz;
+            vec4 s = textureLod(probeDistance, vec4(q, pr.params.x), 0.0);
+            float f0 = length(s.gba);
+            vec3 mn = s.gba / max(f0, 1e-6);
+            if (kProbeMirrorHits && f0 > 0.01 && abs(length(q) - s.r) <= probeSlack(length(q)) && dot(ru, mn) < 0.0) {
+                o = p + ru * t;
+                d = reflect(ru, mn);
+                F = f0 + (1.0 - f0) * pow(1.0 - clamp(-dot(ru, mn), 0.0, 1.0), 5.0);
+                t = probeProxyT(pr, o, d);
+                if (w > skyWeight) skyDir = d;
+            }
+        }
 #endif
-        vec4 c = textureLod(probeCubes, vec4(p + r * t - pr.center.xyz, pr.params.x), roughness * pr.params.y);
-        sum += c.rgb * w;
-        covered += c.a * w;
+        vec4 c = textureLod(probeCubes, vec4(o + d * t - pr.center.xyz, pr.params.x), roughness * pr.params.y);
+        // A mirror's share of the sky (1 - a) goes along its reflected ray (skyDir), times F.
+        sum += F * c.rgb * w;
+        covered += (1.0 - F * (1.0 - c.a)) * w;
         total += w;
         distanceSum += t * w;
+        skyWeight = max(skyWeight, w);
         if (total >= 0.999) break;
     }
     proxyDistance = total > 0.0 ? distanceSum / total : 0.0;
     return vec4(sum, covered);
+}
+
+vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float proxyDistance) {
+    vec3 unused;
+    return sampleProbes(count, p, n, r, roughness, proxyDistance, unused);
 }
 
 vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness) {

@@ -32,9 +32,10 @@ bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
 // they leave (reflections.resolve, and reflections.lookup_full, which must give the same bits).
 // Needs the includer's envSpecular (the prefiltered sky cube).
 vec3 probesAndSky(vec3 p, vec3 n, vec3 r, float roughness, out vec4 probe, out float proxyDistance) {
-    probe = sampleProbes(rf.probeCount, p, n, r, roughness, proxyDistance);
+    vec3 skyDir;
+    probe = sampleProbes(rf.probeCount, p, n, r, roughness, proxyDistance, skyDir);
     probe = groundOverProbes(rf.groundCount, p, r, roughness, probe, proxyDistance);
-    vec3 sky = textureLod(envSpecular, r, roughness * rf.envMaxMip).rgb;
+    vec3 sky = textureLod(envSpecular, skyDir, roughness * rf.envMaxMip).rgb;
     return probe.rgb + (1.0 - probe.a) * sky;
 }
 #endif
