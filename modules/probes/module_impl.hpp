@@ -44,8 +44,9 @@ struct Probes::Impl {
     // deeper, but never stale.
     gpu::Image below;
     // The captured distance (m) from each probe's capture point, a cube of the array per probe at
-    // the array's face size, mip 0 only, R16F, 65504 at the sky (probes.distance_store; GENERAL
-    // between uses): narrow lobes find their hit on it instead of on the proxy (probes.glsl).
+    // the array's face size, mip 0 only, RGBA16F: r the distance (65504 at the sky), gba a smooth
+    // metal's normal times its F0 (probes.distance_store; GENERAL between uses): narrow lobes
+    // find their hit on it instead of on the proxy (probes.glsl).
     gpu::Image distances;
     gpu::Pipeline distanceStore;
     bool lastRound = false;  // update(): the first bake's last round, which `below` does not keep

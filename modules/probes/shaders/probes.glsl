@@ -9,6 +9,7 @@
 #ifndef SPECULUM_PROBES_GLSL
 #define SPECULUM_PROBES_GLSL
 
+#include "common/brdf.glsl"  // F_Schlick
 #include "probes/shaders/probe.h"
 
 layout(set = 0, binding = PROBES_BUFFER_BINDING, std430) readonly buffer ProbeBuffer {
@@ -68,7 +69,6 @@ float probeProxyT(Probe pr, vec3 p, vec3 r) {
     return max(pr.center.w < 0.5 ? tBox : tSphere, 0.0);
 }
 
-// The hit of ray p + t r (r unit) on what the probe captured (probes.distance_store), from the
 #ifdef PROBES_DISTANCE_BINDING
 // How far q (from the capture point) lies behind what the capture point saw toward it: < 0 in
 // front of the captured surface, > 0 behind it (the sky is 65504 m away: always in front).
@@ -135,8 +135,10 @@ vec3 probeDirection(Probe pr, vec3 p, vec3 r) {
 // (at most 1). A cube's alpha is its coverage by geometry (0 where the probe saw the sky, which
 // is infinitely far and goes to the caller's sky along r instead), its rgb premultiplied by it;
 // the caller gives 1 - a to the sky.
-// `proxyDistance`: the influence-weighted distance along r to the probes' proxies (0 where no
-// probe reaches p), which the temporal pass reprojects the reflection by.
+// `proxyDistance`: the influence-weighted distance along r to the probes' hits (the captured
+// surface's or the proxy's; 0 where no probe reaches p), which the temporal pass reprojects the
+// reflection by. `skyDir`: where the uncovered share's sky lies (r, or the reflected ray of the
+// heaviest probe's captured mirror).
 vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float proxyDistance, out vec3 skyDir) {
     vec3 sum = vec3(0.0);
     float covered = 0.0;
@@ -164,7 +166,7 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
             if (kProbeMirrorHits && f0 > 0.01 && abs(length(q) - s.r) <= probeSlack(length(q)) && dot(ru, mn) < 0.0) {
                 o = p + ru * t;
                 d = reflect(ru, mn);
-                F = f0 + (1.0 - f0) * pow(1.0 - clamp(-dot(ru, mn), 0.0, 1.0), 5.0);
+                F = F_Schlick(vec3(f0), clamp(-dot(ru, mn), 0.0, 1.0)).x;
                 t = probeProxyT(pr, o, d);
                 if (w > skyWeight) skyDir = d;
             }

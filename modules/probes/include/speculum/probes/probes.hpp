@@ -86,7 +86,7 @@ struct PlanarSet {
 // What the module hands to the next one: valid handles in the graph they were added to.
 struct ProbeSet {
     TextureHandle cubes;   // cube array, SHADER_READ_ONLY: cube i is probe i's prefiltered radiance
-    TextureHandle distances;  // cube array, GENERAL: cube i is probe i's captured distance (R16F, mip 0)
+    TextureHandle distances;  // cube array, GENERAL: cube i is probe i's captured distance (RGBA16F, mip 0: r distance, gba mirror)
     BufferHandle records;  // shader::Probe[count], in blend order
     uint32_t count = 0;    // 0: no probe (or probes off); the handles still name valid dummies
     CmoSet cmos;           // invalid handles when the host did not add them
@@ -218,7 +218,7 @@ public:
     const gpu::Image& cmoRadiance() const;
     // The cube array (tests): face size, mips, cubes.
     const gpu::Image& cubes() const;
-    // The captured distances (tests): R16F cube array at the cubes' face size, GENERAL.
+    // The captured distances (tests): RGBA16F cube array at the cubes' face size, GENERAL.
     const gpu::Image& distances() const;
     // Local probes' faces captured so far and their total GPU milliseconds (the bench reports ms
     // per face); CMO faces are counted apart (cmoFacesCaptured, cmoCaptureMs).
