@@ -143,7 +143,7 @@ void Renderer::Impl::recordLighting(PassContext& pass, const FrameInputs& frame,
     LightingConstants c{frame.camera.invViewProj,
                         glm::vec4(frame.camera.position, float(environment->mipCount() - 1)),
                         glm::uvec4(extent.width, extent.height,
-                                   lighting.moduleSpecular ? 1u : 0u, 0u)};
+                                   lighting.moduleSpecular ? 1u : 0u, frame.directSpecular ? 0u : 1u)};
     vkCmdPushConstants(cmd, lightingPipeline.layout(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(c), &c);
     vkCmdDraw(cmd, 3, 1, 0, 0);

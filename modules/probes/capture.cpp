@@ -21,9 +21,11 @@ static_assert(sizeof(BouncePush) == 96);
 
 }  // namespace
 
-Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res) {
+Probes::Impl::CaptureFace Probes::Impl::addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res,
+                                                      bool directSpecular) {
     render::FrameInputs frame;
     frame.camera = frame.previousCamera = faceCamera(center, face, res);
+    frame.directSpecular = directSpecular;
     return addCaptureView(fg, frame);
 }
 
@@ -140,7 +142,9 @@ void Probes::Impl::captureFace(size_t index, uint32_t face) {
     const ProbeInfo& info = probes[index];
     const uint32_t res = info.probe.resolution;
     FrameGraph fg(FrameGraphConfig{res, res});
-    CaptureFace c = addCaptureFace(fg, glm::vec3(info.gpu.center), face, res);
+    // Without the direct lights' specular (FrameInputs::directSpecular says why); a CMO's faces
+    // keep it, since its trace moves those terms to each ray's direction (relight.glsl).
+    CaptureFace c = addCaptureFace(fg, glm::vec3(info.gpu.center), face, res, false);
     const gpu::Image& target = radiance[index];
     TextureHandle cube = fg.importTexture("probes.radiance", descOf(target),
                                           {target.get(), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,

@@ -145,7 +145,8 @@ struct Probes::Impl {
         TextureHandle ground;  // the planar grounds as imported (probes.capture_bounce reads them)
         TextureHandle distances;  // the probes' distance cubes as imported (read there too)
     };
-    CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res);
+    // `directSpecular` false: the lighting leaves the lights' highlights out (a local probe's faces).
+    CaptureFace addCaptureFace(FrameGraph& fg, glm::vec3 center, uint32_t face, uint32_t res, bool directSpecular = true);
     // The same for any camera (a planar probe's mirrored view): `frame` at frame.camera's size.
     // `deep`: its surfaces are one reflection deep, so they reflect `below` where there is one.
     CaptureFace addCaptureView(FrameGraph& fg, const render::FrameInputs& frame, bool deep = false);

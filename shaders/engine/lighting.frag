@@ -21,7 +21,8 @@ layout(location = 0) out vec4 outLinear;
 layout(push_constant) uniform LightingConstants {
     mat4 invViewProj;
     vec4 cameraPosition;  // xyz, w specular cube max mip (mips - 1)
-    uvec4 size;           // xy output size, z 1: a module composites reflective pixels' specular ambient
+    uvec4 size;           // xy output size, z 1: a module composites reflective pixels' specular ambient,
+                          // w 1: no direct specular (FrameInputs::directSpecular false: a probe's capture)
 } pc;
 
 // Image-based specular ambient (split-sum: GGX-prefiltered environment times the DFG scale and
@@ -60,16 +61,21 @@ Shaded shadeSurface(ivec2 pixel, vec3 position, vec3 v) {
     s.color = vec3(0.0);
     float sunVisibility = texelFetch(shadowMask, pixel, 0).r;
     // No early-outs per pixel: a SIMD CPU driver pays for masked lanes anyway.
+    // The diffuse lobe alone for a capture whose direct specular belongs to no viewer.
+    bool diffuseOnly = pc.size.w != 0u;
+    vec3 lambert = diffuseColor(baseColor, metallic) * Fd_Lambert();
     uint i = 0u;
     for (; i < kDirectionalLights; ++i) {
         GpuLight light = sceneLight(i);
-        vec3 f = evalBRDFCos(n, v, -light.directionRange.xyz, baseColor, metallic, roughness);
+        vec3 l = -light.directionRange.xyz;
+        vec3 f = diffuseOnly ? lambert * max(dot(n, l), 0.0) : evalBRDFCos(n, v, l, baseColor, metallic, roughness);
         s.color += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sunVisibility : 1.0);
     }
     for (; i < kLights; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(sceneLight(i), position, l);
-        s.color += evalBRDFCos(n, v, l, baseColor, metallic, roughness) * radiance;
+        s.color += (diffuseOnly ? lambert * max(dot(n, l), 0.0) : evalBRDFCos(n, v, l, baseColor, metallic, roughness)) *
+                   radiance;
     }
     s.color += iblDiffuseAmbient(n, diffuseColor(baseColor, metallic));
     s.envWeight = iblSpecularWeight(n, v, roughness, specularF0(baseColor, metallic), s.envDir,

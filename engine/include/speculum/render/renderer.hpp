@@ -82,6 +82,13 @@ struct FrameInputs {
     // The camera is reflected in a plane (a planar probe's view, modules/probes): its
     // view matrix has a negative determinant, so every draw's front face flips.
     bool mirrored = false;
+    // False for a local probe's capture (modules/probes): render.lighting leaves the direct
+    // lights' specular out. A highlight belongs to the camera that sees it, and a probe's cube is
+    // read from everywhere but its capture point: a lamp's highlight on a glossy floor, baked
+    // where the capture point sees it, lit the closed room's rough walls in blotches and the
+    // gallery's chrome objects where their rays met the floor elsewhere
+    // (modules/probes/MEASUREMENTS.md).
+    bool directSpecular = true;
 };
 
 // The handles the renderer's passes produce. `lit` is the lit HDR image before reflections are
