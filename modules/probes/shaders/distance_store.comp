@@ -35,7 +35,8 @@ void main() {
     vec3 mirror = vec3(0.0);
     if (depth > 0.0) {
         dist = min(distance(worldFromDepth(pixelCenterUV(pixel, size), depth, pc.invViewProj), pc.eye.xyz), 65000.0);
-        // A smooth reflective metal: its normal times its mean F0 (probeMirrorAt).
+        // A smooth reflective metal: its normal times its mean F0, which sampleProbes reflects a
+        // ray at (0.3: probes.glsl's kProbeSurfaceMaxRoughness, the band its march serves).
         vec4 nr = texelFetch(normalTex, pixel, 0);
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         uint flags = uint(texelFetch(emissiveTex, pixel, 0).a) & 3u;

@@ -176,9 +176,9 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         // mip blurs by the angle seen from the capture point: a lobe whose proxy point is nearer
         // to the pixel than to the capture point reads a sharper mip (Frostbite's distance-based
         // roughness, Lagarde and de Rousiers 2014: never rougher, and relaxed back toward the
-        // roughness as it grows). Only from kProbeSurfaceMaxRoughness up: below
-        // it the lobe is narrow and its hit found on the captured surface, and there it cost
-        // plain_metals' mirror band 0.19 dB (MEASUREMENTS.md in modules/reflections).
+        // roughness as it grows). Only from kProbeSurfaceMaxRoughness up: below it the lobe is
+        // narrow and its hit found on the captured surface, and there it cost plain_metals'
+        // mirror band 0.19 dB (MEASUREMENTS.md in modules/reflections).
         vec3 look = o + d * t - pr.center.xyz;
         float near = clamp(t / max(length(look), 1e-3) * roughness, 0.0, roughness);
         float lod = roughness < kProbeSurfaceMaxRoughness ? roughness : mix(near, roughness, roughness);
