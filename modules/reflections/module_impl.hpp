@@ -78,7 +78,7 @@ struct Reflections::Impl {
     // Trace and resolve per resolution (half reads the guide's pixel) and glossy mode too.
     // Each also per tile mode (tiles.h: the whole screen, a work list, a fill list, the resolve's
     // lookup list).
-    static constexpr size_t kTileModes = 4;
+    static constexpr size_t kTileModes = 6;  // tiles.h, kTileMode*
     std::array<std::optional<gpu::Pipeline>, 8 * kTileModes> traces;
     std::array<std::optional<gpu::Pipeline>, 4 * kTileModes> resolves;
     // Per view, temporal, tiled, tile scale and list (composite.comp's constants).

@@ -496,9 +496,13 @@ void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, co
                 .sampled("shadowMaskTex", pc.view(data.shadow), nearest)
                 .buffer("tiles", pc.buffer(data.tiles));
             using namespace shader;
+            // The resolve's own lists split the ray and lookup tiles by what their lobes need
+            // (tiles.h): each variant compiles out what none of its tiles' pixels runs.
             dispatchTiles(pc, w, data.tiles, tiled,
-                          {{&resolve(res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListResolveRay},
-                           {&resolve(res, glossy, kTileModeLookup), kListLookup},
+                          {{&resolve(res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListResolveCone},
+                           {&resolve(res, glossy, kTileModeMirror), kListResolveMirror},
+                           {&resolve(res, glossy, kTileModeLookup), kListLookupNarrow},
+                           {&resolve(res, glossy, kTileModeRough), kListLookupRough},
                            {&resolve(res, glossy, kTileModeFill), kListResolveFill}},
                           pc.extent(data.reflection));
         });

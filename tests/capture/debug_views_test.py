@@ -80,24 +80,42 @@ def expected_hiz(x, y, hiz):
 
 
 # The tiles view (composite.comp): per 8x8 tile one of four colours, a screen-space ray (green;
-# yellow with CMOs) or a lookup only (blue; magenta with CMOs).
+# yellow with CMOs) or a lookup only (blue; magenta with CMOs); a ray tile's colour halfway to
+# white where none of its rays has a cone (the resolve's mirror variant), a lookup tile's halved
+# where none of its lobes is narrow (its rough variant).
 TILE_RAY = ((0.1, 0.8, 0.2), (0.9, 0.8, 0.1))
 TILE_LOOKUP = ((0.15, 0.3, 0.9), (0.8, 0.2, 0.8))
+TILE_MIRROR = tuple(tuple(0.5 * c + 0.5 for c in colour) for colour in TILE_RAY)
+TILE_ROUGH = tuple(tuple(0.5 * c for c in colour) for colour in TILE_LOOKUP)
 MAX_SS_ROUGHNESS = 0.6  # reflections.max_roughness's default
+MIRROR_ROUGHNESS = 0.0372  # brdf.glsl's coneTan is 0 below (its Phong power past 2^20)
+NARROW_ROUGHNESS = 0.3  # probe.h's kNarrowLobeMaxRoughness
 
 
 def expected_tile(x, y, got, lin, exposure, reflective, hit, rough):
     """What the tiles view must show at (x, y): the colour of the tile's first reflective pixel
     (one colour per tile), which is a class colour: a ray's whenever a pixel of the tile traced
     one (the hit AOV's iterations; classify may also list a ray that the camera fade then skips),
-    a lookup's when every reflective pixel is rougher than screen space's limit (0.6)."""
+    a lookup's when every reflective pixel is rougher than screen space's limit (0.6), and then
+    the darkened one (no narrow lobe). A traced ray with a cone makes a ray tile's colour the
+    plain one, and reflective pixels all a mirror's the lightened one; a tile with a narrow lobe
+    is never the darkened one."""
     tx, ty = x // 8 * 8, y // 8 * 8
     pixels = [(i, j) for j in range(ty, min(ty + 8, len(lin["R"]))) for i in range(tx, min(tx + 8, len(lin["R"][0])))]
     first = next((i, j) for i, j in pixels if reflective[j][i])
     colour = tuple(lin[c][first[1]][first[0]] * exposure for c in "RGB")
     traced = any(hit["A"][j][i] > 0 for i, j in pixels)
     lookup = all(rough[j][i] > MAX_SS_ROUGHNESS + 0.002 for i, j in pixels if reflective[j][i])
-    allowed = TILE_RAY if traced else TILE_LOOKUP if lookup else TILE_RAY + TILE_LOOKUP
+    mine = [rough[j][i] for i, j in pixels if reflective[j][i]]
+    if traced:
+        cone = any(rough[j][i] > MIRROR_ROUGHNESS + 0.002 for i, j in pixels if hit["A"][j][i] > 0)
+        mirror = all(r < MIRROR_ROUGHNESS - 0.002 for r in mine)
+        allowed = TILE_RAY if cone else TILE_MIRROR if mirror else TILE_RAY + TILE_MIRROR
+    elif lookup:  # every lobe rougher than 0.6, so wide
+        allowed = TILE_ROUGH
+    else:  # a ray the camera fade skipped, or a lookup tile with a planar probe's pixels
+        narrow = any(r < NARROW_ROUGHNESS - 0.002 for r in mine)
+        allowed = TILE_RAY + TILE_MIRROR + TILE_LOOKUP + (() if narrow else TILE_ROUGH)
     match = next((a for a in allowed if close(colour, a)), None)
     return match if match is not None and close(got, colour) else (-1.0, -1.0, -1.0)
 

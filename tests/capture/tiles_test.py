@@ -2,7 +2,7 @@
 """The classified path equals the unclassified one (issue 23, "tests stay correctness tests"):
 reflections.tiles on (reflections.classify's tile lists, indirect dispatch, fill variants for the
 tiles that need nothing) and off (every per-pixel pass over the whole screen) must give the same
-bits in every AOV the module writes, with no NaN, at the stripes test's five odd sizes (tile
+values in every AOV the module writes, with no NaN, at the stripes test's five odd sizes (tile
 edges fall mid-tile on the right and bottom) and in every mode the lists treat differently: full
 and half resolution (half also with reflections.full_res_lookups), cone and stochastic glossy,
 CMOs, planar probes (the gallery's floor),
@@ -11,12 +11,22 @@ has CMOs (the cmo AOV needs them).
 
     tiles_test.py CAPTURE OUTDIR
 
+The same values: the same bits, but for two half-float steps (ULPS) where a variant of the
+resolve compiled without what its tiles do not run (tiles.h: no cone loop, no narrow-lobe steps)
+rounds differently. Its math is the same, but LLVM fuses multiplies and adds by the code around
+them, so a texture coordinate can move by a float ulp: on gallery.main at 641x359, 1 value of
+the method AOV in 921,000 (0.0136795 against 0.0136719). A tile in the wrong list, or a variant
+that drops work its pixels need, is wrong by far more.
+
 Exit 1 names the case, the AOV and the first differing pixel."""
 import math, os, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from stripes_test import SIZES, load
 
+# Two steps of a half float (10 stored mantissa bits), relative; and one of its smallest steps.
+ULPS = 2.0 ** -9
+TINY = 2.0 ** -24
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 AOVS = ["color", "reflection", "method", "hit", "cmo"]
 # (scene, camera, frames, settings): frames > 1 for the temporal case (its history passes through).
@@ -54,6 +64,7 @@ def main():
                 d = dirs[tiles] = os.path.join(outdir, tag, "tiles_" + tiles)
                 os.makedirs(d, exist_ok=True)
                 capture(exe, scene, camera, size, frames, settings + ["reflections.tiles=" + tiles], d)
+            rounded, before = 0, failures
             for aov in AOVS:
                 name = "%s.%04d.exr" % (aov, frames - 1)
                 a = load(os.path.join(dirs["true"], name), dirs["true"])[2]
@@ -62,17 +73,16 @@ def main():
                 for c in sorted(a):
                     for y, (ra, rb) in enumerate(zip(a[c], b[c])):
                         for x, (va, vb) in enumerate(zip(ra, rb)):
-                            if math.isnan(va) or va != vb:
-                                bad = (c, x, y, va, vb)
-                                break
-                        if bad:
-                            break
-                    if bad:
-                        break
+                            if math.isnan(va) or math.isnan(vb) or abs(va - vb) > ULPS * max(abs(va), abs(vb)) + TINY:
+                                bad = bad or (c, x, y, va, vb)
+                            elif va != vb:
+                                rounded += 1
                 if bad:
                     failures += 1
                     print("FAIL %s %s: %s at (%d, %d) is %r with tiles, %r without" % ((tag, aov) + bad))
-            print("%s: %s" % (tag, "differs" if failures else "identical"), flush=True)
+            if rounded:
+                print("%s: %d values within %g relative" % (tag, rounded, ULPS))
+            print("%s: %s" % (tag, "differs" if failures > before else "equal"), flush=True)
     if failures:
         sys.exit(1)
     print("the classified path equals the unclassified one in %d cases" % len(CASES))

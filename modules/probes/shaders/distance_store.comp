@@ -8,6 +8,7 @@
 // size reads its face's pixel under each texel (nearest).
 #include "common/camera.glsl"
 #include "engine/ibl_common.glsl"
+#include "probes/shaders/probe.h"  // kNarrowLobeMaxRoughness
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -36,11 +37,11 @@ void main() {
     if (depth > 0.0) {
         dist = min(distance(worldFromDepth(pixelCenterUV(pixel, size), depth, pc.invViewProj), pc.eye.xyz), 65000.0);
         // A smooth reflective metal: its normal times its mean F0, which sampleProbes reflects a
-        // ray at (0.3: probes.glsl's kProbeSurfaceMaxRoughness, the band its march serves).
+        // ray at (the band its march serves).
         vec4 nr = texelFetch(normalTex, pixel, 0);
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         uint flags = uint(texelFetch(emissiveTex, pixel, 0).a) & 3u;
-        if (flags == 2u && albedo.a >= 0.5 && nr.w < 0.3) mirror = normalize(nr.xyz) * dot(albedo.rgb, vec3(1.0 / 3.0));
+        if (flags == 2u && albedo.a >= 0.5 && nr.w < kNarrowLobeMaxRoughness) mirror = normalize(nr.xyz) * dot(albedo.rgb, vec3(1.0 / 3.0));
     }
     imageStore(outDistance, ivec3(texel, int(pc.info.w + pc.info.z)), vec4(dist, mirror));
 }

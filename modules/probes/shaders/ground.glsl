@@ -48,7 +48,7 @@ vec4 groundOverProbes(uint count, vec3 p, vec3 r, float roughness, vec4 probe, f
     // narrow; serving every roughness cost gallery.main's rough band 1.3 dB (19.20 -> 17.88),
     // where the walls' wide lobes take the floor's average for the whole hemisphere. Up to 0.5
     // scored the same as 0.3.
-    float share = clamp((0.3 - roughness) / 0.1, 0.0, 1.0);
+    float share = clamp((kNarrowLobeMaxRoughness - roughness) / 0.1, 0.0, 1.0);
     if (count == 0u || share <= 0.0) return probe;
     vec4 ground = sampleGround(count, p, r, roughness, proxyDistance > 0.0 ? proxyDistance + 0.02 : 1e30) * share;
     return ground + (1.0 - ground.a) * probe;

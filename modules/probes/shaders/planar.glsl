@@ -37,7 +37,7 @@ int planarAt(uint count, vec3 p, vec3 n, vec3 eye) {
 // while the lobe is narrow: serving the gallery's 0.3 and 0.6 floor bands too cost its rough
 // band 3.5 dB (modules/reflections/MEASUREMENTS.md, "planar probes"); above, the chain answers.
 float planarShare(float roughness) {
-    return clamp((0.3 - roughness) / 0.1, 0.0, 1.0);
+    return clamp((kNarrowLobeMaxRoughness - roughness) / 0.1, 0.0, 1.0);
 }
 
 vec2 planarUv(PlanarProbe pl, vec3 q) {

@@ -8,6 +8,15 @@
 
 SPECULUM_SHADER_NAMESPACE_BEGIN(speculum::probes::shader)
 
+// The mirror band's top (perceptual roughness). A lobe narrower than this finds its hit on a
+// local probe's captured distances (probes.glsl), and the planar probes' images and grounds serve
+// it (planar.glsl's planarShare, ground.glsl's groundOverProbes, both zero from here up). Where
+// every lobe is at least this rough none of those steps runs: reflections.classify sends such
+// tiles to a resolve compiled without them. Every roughness scored the same with the march
+// (cornell_mirrors, closed_room, gallery, plain_metals: rough bands within 0.03 dB), so wider
+// lobes keep the proxy and its cost; the planar steps' limits are their own (their files).
+SPECULUM_CONSTANT(float, kNarrowLobeMaxRoughness, 0.3f);
+
 struct Probe {
     mat4 worldToLocal;  // the probe node's inverse world transform: its shapes live in node space
     vec4 center;        // xyz capture point (world), w shape (0 box, 1 sphere)

@@ -20,10 +20,13 @@ layout(set = 0, binding = PROBES_CUBES_BINDING) uniform samplerCubeArray probeCu
 layout(set = 0, binding = PROBES_DISTANCE_BINDING) uniform samplerCubeArray probeDistance;  // nearest
 #endif
 
-// Lobes up to this roughness find their hit on the captured distances (probeSurfaceT): the
-// mirror band. Every roughness scored the same (cornell_mirrors, closed_room, gallery,
-// plain_metals: rough bands within 0.03 dB), so wider lobes keep the proxy and its cost.
-const float kProbeSurfaceMaxRoughness = 0.3;
+// Lobes narrower than probe.h's kNarrowLobeMaxRoughness find their hit on the captured
+// distances (probeSurfaceT). An includer whose pixels all have wider lobes (reflections.resolve
+// on its rough lookup tiles) defines PROBES_NARROW_LOBES as false, a specialization constant's
+// test, to compile that march out: lavapipe runs both sides of every branch.
+#ifndef PROBES_NARROW_LOBES
+#define PROBES_NARROW_LOBES true
+#endif
 #ifdef PROBES_DISTANCE_BINDING
 // Whether a hit on a captured mirror reflects again (sampleProbes). Only in the main view's
 // chain: a capture's surfaces are already a reflection deep, and a further bounce there went past
@@ -153,7 +156,7 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         vec3 o = p, d = r;
         float F = 1.0;
 #ifdef PROBES_DISTANCE_BINDING
-        if (roughness < kProbeSurfaceMaxRoughness && pr.params.z > 0.0) {
+        if (PROBES_NARROW_LOBES && roughness < kNarrowLobeMaxRoughness && pr.params.z > 0.0) {
             vec3 ru = normalize(r);
             t = probeSurfaceT(pr, p, ru, t);
             // A captured mirror where the ray lands (a smooth metal: the distance cube's gba is
@@ -176,12 +179,12 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         // mip blurs by the angle seen from the capture point: a lobe whose proxy point is nearer
         // to the pixel than to the capture point reads a sharper mip (Frostbite's distance-based
         // roughness, Lagarde and de Rousiers 2014: never rougher, and relaxed back toward the
-        // roughness as it grows). Only from kProbeSurfaceMaxRoughness up: below it the lobe is
+        // roughness as it grows). Only from kNarrowLobeMaxRoughness up: below it the lobe is
         // narrow and its hit found on the captured surface, and there it cost plain_metals'
         // mirror band 0.19 dB (MEASUREMENTS.md in modules/reflections).
         vec3 look = o + d * t - pr.center.xyz;
         float near = clamp(t / max(length(look), 1e-3) * roughness, 0.0, roughness);
-        float lod = roughness < kProbeSurfaceMaxRoughness ? roughness : mix(near, roughness, roughness);
+        float lod = roughness < kNarrowLobeMaxRoughness ? roughness : mix(near, roughness, roughness);
         vec4 c = textureLod(probeCubes, vec4(look, pr.params.x), lod * pr.params.y);
         // A mirror's share of the sky (1 - a) goes along its reflected ray (skyDir), times F.
         sum += F * c.rgb * w;

@@ -34,7 +34,8 @@ bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
 vec3 probesAndSky(vec3 p, vec3 n, vec3 r, float roughness, out vec4 probe, out float proxyDistance) {
     vec3 skyDir;
     probe = sampleProbes(rf.probeCount, p, n, r, roughness, proxyDistance, skyDir);
-    probe = groundOverProbes(rf.groundCount, p, r, roughness, probe, proxyDistance);
+    // The grounds serve narrow lobes only (ground.glsl): compiled out with the march.
+    if (PROBES_NARROW_LOBES) probe = groundOverProbes(rf.groundCount, p, r, roughness, probe, proxyDistance);
     vec3 sky = textureLod(envSpecular, skyDir, roughness * rf.envMaxMip).rgb;
     return probe.rgb + (1.0 - probe.a) * sky;
 }

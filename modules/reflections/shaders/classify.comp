@@ -9,7 +9,12 @@
 //     ray direction is stochastic in one mode: a tile is never left out that would trace);
 //   - the CMOs: reflective, CMOs in its chain, no rougher than cmo_max_roughness, not planar, and
 //     not covered by screen space (the trace lists the tiles with a ray, when it knows that);
-//   - a resolve: reflective at all (else its reflection is 0).
+//   - a resolve: reflective at all (else its reflection is 0);
+//   - a cone: a ray whose cone may be wider than the mirror's (kConeMinRoughness): a tile of
+//     mirror rays alone is resolved without the cone loop;
+//   - a narrow lobe: reflective, smoother than kNarrowLobeMaxRoughness (probe.h): a tile of
+//     wider lobes alone is resolved without the probes' distance march, the planar
+//     probes and their grounds, which serve only narrower ones.
 // Above the screen-space limit a reflective tile is a lookup (probes and sky, no ray). At half
 // resolution this pass also chooses the pixel each half pixel traces and writes the guide
 // (reflections/guide.glsl), which the trace used to: the choice is needed to classify.
@@ -37,10 +42,12 @@ int rotationStart(ivec2 halfPixel) {
     const int kOrder[4] = int[](0, 3, 1, 2);
     return kOrder[(int(rf.frameIndex) + (halfPixel.x & 1) + 2 * (halfPixel.y & 1)) & 3];
 }
+// brdf.glsl's coneTan is 0 (a mirror's ray: Phong power past 2^20) below roughness 0.03716; a
+// ray from this roughness up counts as a cone, a few with no cone among them (the cone variant
+// resolves a mirror's ray alike): a compare instead of coneTan's exp2, log2 and square root.
+const float kConeMinRoughness = 0.037;
 #define SPECULUM_REFLECTIONS_GUIDE_CHOOSE
 #include "reflections/shaders/guide.glsl"
-
-const uint kNeedRay = 1u, kNeedCmo = 2u, kNeedResolve = 4u;
 
 void append(uint list, uint tile) {
     uint i = atomicAdd(tiles.args[list].x, 1u);
@@ -72,32 +79,47 @@ void main() {
         if (depth > 0.0 && m.reflective) {
             vec3 p = worldAt(vec2(pixel) + 0.5, depth);
             bool planar = planarServes(depth, m, p, normalize(normalRough.xyz));
-            mine = kNeedResolve;
-            if (m.screenSpace && m.roughness <= m.maxScreenSpace && !planar) mine |= kNeedRay;
+            mine = kNeedResolve | (m.roughness < kNarrowLobeMaxRoughness ? kNeedNarrow : 0u);
+            if (m.screenSpace && m.roughness <= m.maxScreenSpace && !planar)
+                mine |= kNeedRay | (m.roughness >= kConeMinRoughness ? kNeedCone : 0u);
             if (inCmoBand(depth, m, planar)) mine |= kNeedCmo;
         }
     }
     // The tile's needs without a workgroup barrier (two of them cost this pass 4-7 of its 17 ms
     // on lavapipe at 960x540): each subgroup ORs its lanes' needs, and its first lane adds them
-    // into the tile's word (tiles.h, kListArrivals) in bits of its own, 3 per subgroup, with an
-    // arrival count in the top byte; the subgroup that arrives last has every bit and appends the
-    // tile. Needs at most 8 subgroups per 64 invocations (a subgroup size of 8 or more: every
-    // desktop GPU and lavapipe).
+    // into the tile's word (tiles.h, kListArrivals) in bits of its own, 3 per subgroup, with its
+    // arrival counted in bits 24-27; the subgroup that arrives last has every bit and appends the
+    // tile. The resolve's two rarer needs (a cone, a narrow lobe) are ORed into bits 28 and 29
+    // first, by the subgroups that have them only (one atomic per subgroup on most tiles): a
+    // location's atomics are ordered as each invocation issues them, so the last add returns
+    // them too. Needs at most 8 subgroups per 64 invocations (a subgroup size of 8 or more:
+    // every desktop GPU and lavapipe).
     uint sub = subgroupOr(mine);
     if (subgroupElect()) {
-        uint tileIndex = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        uint add = (sub << (3u * gl_SubgroupID)) + (1u << 24);
-        uint before = atomicAdd(tiles.entries[tileIndex * kTileLists + kListArrivals], add);
-        if ((before >> 24) == gl_NumSubgroups - 1u) {
-            uint all = before + add, n = 0u;
+        uint word = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * kTileLists + kListArrivals;
+        uint rare = sub & (kNeedCone | kNeedNarrow);
+        if (rare != 0u) atomicOr(tiles.entries[word], rare << kArrivalRareShift);
+        uint add = ((sub & 7u) << (3u * gl_SubgroupID)) + (1u << kArrivalCountShift);
+        uint before = atomicAdd(tiles.entries[word], add);
+        if (((before >> kArrivalCountShift) & 15u) == gl_NumSubgroups - 1u) {
+            uint all = before + add, n = (all >> kArrivalRareShift) & (kNeedCone | kNeedNarrow);
             for (uint k = 0u; k < gl_NumSubgroups; ++k) n |= (all >> (3u * k)) & 7u;
             uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
-            append((n & kNeedRay) != 0u ? kListTrace : kListTraceFill, tile);
+            bool ray = (n & kNeedRay) != 0u;
+            append(ray ? kListTrace : kListTraceFill, tile);
             // A tile with a ray gets its CMO list from reflections.trace, which knows what screen
             // space covers; without one, nothing is covered.
-            if ((n & kNeedRay) == 0u) append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
-            append((n & kNeedRay) != 0u ? kListResolveRay : (n & kNeedResolve) != 0u ? kListLookup : kListResolveFill,
-                   tile);
+            if (!ray) append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
+            // The resolve's lists, and the two the other full-size passes take whole.
+            if (ray) {
+                append(kListResolveRay, tile);
+                append((n & kNeedCone) != 0u ? kListResolveCone : kListResolveMirror, tile);
+            } else if ((n & kNeedResolve) != 0u) {
+                append(kListLookup, tile);
+                append((n & kNeedNarrow) != 0u ? kListLookupNarrow : kListLookupRough, tile);
+            } else {
+                append(kListResolveFill, tile);
+            }
         }
     }
 }

@@ -13,6 +13,16 @@
 #include "reflections/shaders/material.glsl"
 #include "reflections/shaders/stochastic.glsl"
 #include "reflections/shaders/relight.glsl"
+// Tile lists (reflections.classify; before the probes, whose march the rough variant compiles
+// out): kListResolveCone runs all of it, kListResolveMirror all but the cone loop (every ray a
+// mirror's), kListLookupNarrow (no pixel with a screen-space ray: its hits all read "not traced")
+// compiles the screen-space term out, kListLookupRough also the steps that serve only lobes
+// narrower than kNarrowLobeMaxRoughness (probe.h: the probes' distance march, the planar image,
+// the grounds), and kListResolveFill writes what a pixel that reflects nothing gets. Each
+// variant gives its pixels the full shader's bits (capture.tiles_equal).
+#include "reflections/shaders/tiles.glsl"
+const bool kNoRay = kTileMode == kTileModeLookup || kTileMode == kTileModeRough;
+#define PROBES_NARROW_LOBES (kTileMode != kTileModeRough)
 #define PROBES_BUFFER_BINDING 11
 #define PROBES_CUBES_BINDING 12
 #define PROBES_DISTANCE_BINDING 25
@@ -49,10 +59,6 @@ layout(constant_id = 300) const uint kHalf = 0u;
 // reflections.glossy (1: stochastic): glossy pixels resolve their own and four neighbours' GGX
 // samples instead of a cone.
 layout(constant_id = 301) const uint kStochastic = 0u;
-// Tile lists (reflections.classify): kListResolveRay runs all of it, kListLookup (no pixel with a
-// screen-space ray: its hits all read "not traced") compiles the screen-space term out, and
-// kListResolveFill writes what a pixel that reflects nothing gets.
-#include "reflections/shaders/tiles.glsl"
 
 // The reflected distance the temporal pass reprojects by (distanceOut): the screen-space hit's
 // when screen space covers most, the CMO hit's or the probes' proxy distance when they do,
@@ -185,8 +191,10 @@ vec3 stochasticResolve(ivec2 out_, vec3 p, vec3 v, vec3 n, float roughness, out 
 
 void main() {
     ivec2 out_ = tilePixel(kTileMode == kTileModeFill     ? kListResolveFill
-                           : kTileMode == kTileModeLookup ? kListLookup
-                                                          : kListResolveRay);
+                           : kTileMode == kTileModeLookup ? kListLookupNarrow
+                           : kTileMode == kTileModeRough  ? kListLookupRough
+                           : kTileMode == kTileModeMirror ? kListResolveMirror
+                                                          : kListResolveCone);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
     if (kTileMode == kTileModeFill) {
         imageStore(reflectionOut, out_, vec4(0.0));
@@ -209,7 +217,7 @@ void main() {
         vec3 r = reflect(v, n);
         vec3 screen = vec3(0.0);
         float coverage = 0.0;
-        vec4 hit = kTileMode == kTileModeLookup ? vec4(-1.0) : texelFetch(hitTex, out_, 0);
+        vec4 hit = kNoRay ? vec4(-1.0) : texelFetch(hitTex, out_, 0);
         float hitDistance = 0.0;
         // On a planar probe's plane the mirrored view is exact and takes the pixel (no screen-space
         // term) up to planarShare's roughness, fading to the rest of the chain above it (its box
@@ -219,18 +227,20 @@ void main() {
         // the planar image on distance and position scored 32.9 / 34.4 dB against 33.2 / 33.6
         // planar alone on mirror_floor, and its choice flipping from pixel to pixel drew moire
         // along the gallery's reflected edges (modules/reflections/MEASUREMENTS.md, "planar probes").
-        int planar = rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
+        int planar = PROBES_NARROW_LOBES && rf.planarCount > 0u ? planarAt(rf.planarCount, p, n, rfm.eye) : -1;
         float planarWeight = planar >= 0 ? planarShare(m.roughness) : 0.0;
-        if (planarWeight >= 1.0 || kTileMode == kTileModeLookup) {
-        } else if (kStochastic != 0u && m.roughness >= kStochasticMinRoughness) {
+        if (planarWeight >= 1.0 || kNoRay) {
+        } else if (kStochastic != 0u && kTileMode != kTileModeMirror && m.roughness >= kStochasticMinRoughness) {
             if (m.screenSpace && m.roughness <= m.maxScreenSpace) {
                 screen = stochasticResolve(out_, p, v, n, m.roughness, coverage, hitDistance);
                 coverage *= clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
             }
         } else if (hit.z > 0.0) {
             hitDistance = distance(worldAt(hit.xy, hit.z), p);
-            float accumulated;
-            screen = coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
+            // A mirror tile's rays have no cone (coneTrace's own first answer).
+            float accumulated = 1.0;
+            screen = kTileMode == kTileModeMirror ? textureLod(colorPyramid, hit.xy * rf.size.zw, 0.0).rgb
+                                                  : coneTrace(px, depth, hit.xyz, m.roughness, accumulated);
             // A mirror hit replaces the cone's colour where the cone is narrow at the hit.
             float share = mirrorHitShare(px, hit.xy, m.roughness);
             vec3 again;

@@ -18,7 +18,7 @@
 SPECULUM_SHADER_NAMESPACE_BEGIN(speculum::reflections::shader)
 
 SPECULUM_CONSTANT(uint, kTileSize, 8u);  // the passes' workgroup size: one workgroup per tile
-SPECULUM_CONSTANT(uint, kTileLists, 8u);
+SPECULUM_CONSTANT(uint, kTileLists, 12u);
 // The lists. A tile is in exactly one of each pass's lists.
 SPECULUM_CONSTANT(uint, kListTrace, 0u);       // some pixel traces a screen-space ray
 SPECULUM_CONSTANT(uint, kListTraceFill, 1u);   // none does
@@ -27,15 +27,34 @@ SPECULUM_CONSTANT(uint, kListCmoFill, 3u);     // none may
 SPECULUM_CONSTANT(uint, kListResolveRay, 4u);  // some pixel resolves a screen-space ray (= kListTrace)
 SPECULUM_CONSTANT(uint, kListLookup, 5u);      // reflective pixels, none with a ray: probes, CMOs, sky only
 SPECULUM_CONSTANT(uint, kListResolveFill, 6u); // nothing reflects
+// The resolve's own split of the two lists above (the other full-size passes take them whole):
+// what its pixels' lobes need, so that a tile compiles out what none of its pixels runs
+// (lavapipe runs both sides of every branch; on a GPU a coherent wave skips them anyway).
+SPECULUM_CONSTANT(uint, kListResolveMirror, 7u);  // kListResolveRay, every ray a mirror's (no cone: coneTan 0)
+SPECULUM_CONSTANT(uint, kListResolveCone, 8u);    // kListResolveRay, some ray with a cone
+SPECULUM_CONSTANT(uint, kListLookupRough, 9u);    // kListLookup, every lobe rough (kNarrowLobeMaxRoughness and up)
+SPECULUM_CONSTANT(uint, kListLookupNarrow, 10u);  // kListLookup, some lobe narrower
 // Not a list: entries[t * kTileLists + kListArrivals] is tile t's (row-major index) word that
-// reflections.classify gathers its subgroups' needs in (zeroed by reflections.tile_clear).
-SPECULUM_CONSTANT(uint, kListArrivals, 7u);
+// reflections.classify gathers its subgroups' needs in (zeroed by reflections.tile_clear): the
+// first three needs in 3 bits per subgroup (bits 0-23), the subgroups arrived counted from bit
+// kArrivalCountShift (4 bits), and kNeedCone and kNeedNarrow shifted by kArrivalRareShift.
+SPECULUM_CONSTANT(uint, kListArrivals, 11u);
+SPECULUM_CONSTANT(uint, kArrivalCountShift, 24u);
+SPECULUM_CONSTANT(uint, kArrivalRareShift, 25u);  // kNeedCone (8) at bit 28, kNeedNarrow (16) at 29
+// A pixel's needs (reflections.classify says what each means; the tiles debug view shows them).
+SPECULUM_CONSTANT(uint, kNeedRay, 1u);
+SPECULUM_CONSTANT(uint, kNeedCmo, 2u);
+SPECULUM_CONSTANT(uint, kNeedResolve, 4u);
+SPECULUM_CONSTANT(uint, kNeedCone, 8u);
+SPECULUM_CONSTANT(uint, kNeedNarrow, 16u);
 
 // How a per-pixel pass's pipeline is dispatched (its specialization constant kTileMode, id 310).
 SPECULUM_CONSTANT(uint, kTileModeScreen, 0u);  // over the whole screen (reflections.tiles off)
 SPECULUM_CONSTANT(uint, kTileModeWork, 1u);    // the pass's work list: the full shader
 SPECULUM_CONSTANT(uint, kTileModeFill, 2u);    // its fill list: outputs of a pixel that needs nothing
-SPECULUM_CONSTANT(uint, kTileModeLookup, 3u);  // the resolve on kListLookup: no screen-space term
+SPECULUM_CONSTANT(uint, kTileModeLookup, 3u);  // the resolve on kListLookupNarrow: no screen-space term
+SPECULUM_CONSTANT(uint, kTileModeMirror, 4u);  // the resolve on kListResolveMirror: no cone loop
+SPECULUM_CONSTANT(uint, kTileModeRough, 5u);   // the resolve on kListLookupRough: no narrow-lobe steps
 
 SPECULUM_SHADER_NAMESPACE_END
 
