@@ -226,6 +226,16 @@ struct Reflections::Impl {
     };
     std::vector<TextureHandle> addLitCopy(FrameGraph& g, const std::string& pass, TextureHandle lit,
                                           const std::vector<CopyTarget>& targets);
+    // New textures cleared to a constant by a transfer pass, for a tiled pass that then writes
+    // its work tiles only. On lavapipe invocations cost whatever they do: the trace's fill variant
+    // (one store each) cost 1.6-2.8 ms at 960x540, a clear about 1 (MEASUREMENTS.md, issue 23,
+    // 2026-12-07).
+    struct ClearTarget {
+        std::string name;
+        TextureDesc desc;
+        VkClearColorValue value;
+    };
+    std::vector<TextureHandle> addClear(FrameGraph& g, const std::string& pass, const std::vector<ClearTarget>& targets);
     TextureHandle addHiZView(FrameGraph& g, TextureHandle hiz);
 
     gpu::DescriptorWriter writer() const;  // the frame constants, rf and rfm (common.glsl)

@@ -53,6 +53,26 @@ std::vector<TextureHandle> Reflections::Impl::addLitCopy(FrameGraph& g, const st
     return d.dst;
 }
 
+std::vector<TextureHandle> Reflections::Impl::addClear(FrameGraph& g, const std::string& pass,
+                                                       const std::vector<ClearTarget>& targets) {
+    struct Data {
+        std::vector<TextureHandle> dst;
+    };
+    const auto& d = g.addPass<Data>(
+        pass, PassType::Transfer,
+        [&](PassBuilder& b, Data& data) {
+            for (const ClearTarget& t : targets)
+                data.dst.push_back(b.write(b.create(t.name, t.desc), TextureUsage::TransferDst, mipLevel(0)));
+        },
+        [targets](const Data& data, PassContext& pc) {
+            const VkImageSubresourceRange level0{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            for (size_t i = 0; i < data.dst.size(); ++i)
+                vkCmdClearColorImage(pc.cmd(), pc.image(data.dst[i]), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                     &targets[i].value, 1, &level0);
+        });
+    return d.dst;
+}
+
 TextureHandle Reflections::Impl::addHiZ(FrameGraph& g, TextureHandle depth, uint32_t levels, TextureHandle& visibility) {
     historyHiz = g.importHistory("reflections.hiz", history.hiz.history());
     // Levels 0 and 1 and visibility level 1 in one pass (hiz_first.comp); a 1x1 view has level 0 only.
@@ -328,6 +348,13 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
         BufferHandle planarRecords, tiles;
     };
     const Resolution res = s.resolution;
+    TextureDesc desc{.format = kHitFormat};
+    if (res == Resolution::Half) desc.relativeTo = tiles.guide;
+    // With tiles, every pixel starts as trace.comp's "not traced" and the trace writes its ray
+    // tiles only.
+    const TextureHandle cleared =
+        s.tiles ? addClear(g, "reflections.trace_clear", {{"reflections.hit", desc, {{-1.0f, -1.0f, -1.0f, 0.0f}}}})[0]
+                : TextureHandle{};
     const auto& d = g.addPass<Data>(
         "reflections.trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
@@ -339,13 +366,9 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
             // It reads its own lists and appends its tiles to the CMO trace's (trace.comp).
             b.read(tiles.tiles, BufferUsage::Indirect);
             data.tiles = tiles.tiles = b.write(tiles.tiles, BufferUsage::StorageWrite);
-            TextureDesc desc{.format = kHitFormat};
             // Full resolution binds the normals in the guide's place (unread).
-            if (res == Resolution::Half) {
-                data.guide = b.read(tiles.guide, TextureUsage::Sampled);
-                desc.relativeTo = tiles.guide;
-            }
-            data.hit = b.write(b.create("reflections.hit", desc), TextureUsage::StorageWrite);
+            if (res == Resolution::Half) data.guide = b.read(tiles.guide, TextureUsage::Sampled);
+            data.hit = b.write(cleared.valid() ? cleared : b.create("reflections.hit", desc), TextureUsage::StorageWrite);
         },
         [this, mode = s.trace, res, glossy = s.glossy, tiled = s.tiles](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
@@ -356,8 +379,7 @@ TextureHandle Reflections::Impl::addTrace(FrameGraph& g, const ReflectionInputs&
                 .sampled("planarImages", pc.view(data.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
             using namespace shader;
             dispatchTiles(pc, w, data.tiles, tiled,
-                          {{&trace(mode, res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListTrace},
-                           {&trace(mode, res, glossy, kTileModeFill), kListTraceFill}},
+                          {{&trace(mode, res, glossy, tiled ? kTileModeWork : kTileModeScreen), kListTrace}},
                           pc.extent(data.hit));
         });
     return d.hit;
@@ -371,6 +393,13 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
         TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info, planar;
         BufferHandle records, planarRecords, tiles;
     };
+    const TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
+    // With tiles, both outputs start as 0 ("no CMO hit") and the CMO trace writes its tiles only.
+    std::vector<TextureHandle> cleared;
+    if (s.tiles)
+        cleared = addClear(g, "reflections.cmo_clear",
+                           {{"reflections.cmo", desc, {{0.0f, 0.0f, 0.0f, 0.0f}}},
+                            {"reflections.cmo_info", desc, {{0.0f, 0.0f, 0.0f, 0.0f}}}});
     const auto& d = g.addPass<Data>(
         "reflections.cmo_trace", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
@@ -388,9 +417,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
             data.radiance = b.read(set.radiance, TextureUsage::Sampled);
             data.attr = b.read(set.attr, TextureUsage::Sampled);
             data.albedo = b.read(set.albedo, TextureUsage::Sampled);
-            TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
-            data.cmo = b.write(b.create("reflections.cmo", desc), TextureUsage::StorageWrite);
-            data.info = b.write(b.create("reflections.cmo_info", desc), TextureUsage::StorageWrite);
+            data.cmo = b.write(cleared.empty() ? b.create("reflections.cmo", desc) : cleared[0], TextureUsage::StorageWrite);
+            data.info = b.write(cleared.empty() ? b.create("reflections.cmo_info", desc) : cleared[1],
+                                TextureUsage::StorageWrite);
         },
         [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear, tiled = s.tiles](
             const Data& data, PassContext& pc) {
@@ -411,8 +440,7 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
             using namespace shader;
             const Resolution res = half ? Resolution::Half : Resolution::Full;
             dispatchTiles(pc, w, data.tiles, tiled,
-                          {{&cmoTrace(res, linear, tiled ? kTileModeWork : kTileModeScreen), kListCmo},
-                           {&cmoTrace(res, linear, kTileModeFill), kListCmoFill}},
+                          {{&cmoTrace(res, linear, tiled ? kTileModeWork : kTileModeScreen), kListCmo}},
                           pc.extent(data.cmo));
         });
     out.cmo = d.cmo;

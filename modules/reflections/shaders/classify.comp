@@ -106,10 +106,10 @@ void main() {
             for (uint k = 0u; k < gl_NumSubgroups; ++k) n |= (all >> (3u * k)) & 7u;
             uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
             bool ray = (n & kNeedRay) != 0u;
-            append(ray ? kListTrace : kListTraceFill, tile);
+            if (ray) append(kListTrace, tile);
             // A tile with a ray gets its CMO list from reflections.trace, which knows what screen
             // space covers; without one, nothing is covered.
-            if (!ray) append((n & kNeedCmo) != 0u ? kListCmo : kListCmoFill, tile);
+            if (!ray && (n & kNeedCmo) != 0u) append(kListCmo, tile);
             // The resolve's lists, and the two the other full-size passes take whole.
             if (ray) {
                 append(kListResolveRay, tile);

@@ -83,13 +83,9 @@ vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out v
 }
 
 void main() {
-    ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListCmoFill : kListCmo);
+    // With tiles, the tiles without CMO work keep reflections.cmo_clear's 0 in both outputs.
+    ivec2 out_ = tilePixel(kListCmo);
     if (any(greaterThanEqual(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf))) return;
-    if (kTileMode == kTileModeFill) {
-        imageStore(cmoOut, out_, vec4(0.0));
-        imageStore(infoOut, out_, vec4(0.0));
-        return;
-    }
     ivec2 pixel = kHalf != 0u ? guidePixel(out_, texelFetch(guideTex, out_, 0)) : out_;
     vec4 result = vec4(0.0);
     vec4 info = vec4(0.0);

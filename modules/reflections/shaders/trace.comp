@@ -338,13 +338,11 @@ vec3 traceLinear(ScreenRay ray) {
 }
 
 void main() {
-    ivec2 out_ = tilePixel(kTileMode == kTileModeFill ? kListTraceFill : kListTrace);
+    // With tiles, the tiles without a ray keep reflections.trace_clear's "not traced" (the value
+    // below).
+    ivec2 out_ = tilePixel(kListTrace);
     bool inside = all(lessThan(out_, (ivec2(rf.size.xy) + int(kHalf)) >> kHalf));
     vec4 result = vec4(-1.0, -1.0, -1.0, 0.0);
-    if (kTileMode == kTileModeFill) {
-        if (inside) imageStore(hitOut, out_, result);
-        return;
-    }
     if (kTileMode == kTileModeWork && gl_LocalInvocationIndex == 0u) needsCmo = 0u;
     bool cmo = false;
     if (inside) {
@@ -381,9 +379,8 @@ void main() {
     barrier();
     if (cmo) atomicOr(needsCmo, 1u);
     barrier();
-    if (gl_LocalInvocationIndex == 0u) {
-        uint list = needsCmo != 0u ? kListCmo : kListCmoFill;
-        uint i = atomicAdd(tiles.args[list].x, 1u);
-        tiles.entries[i * kTileLists + list] = tiles.entries[gl_WorkGroupID.x * kTileLists + kListTrace];
+    if (gl_LocalInvocationIndex == 0u && needsCmo != 0u) {
+        uint i = atomicAdd(tiles.args[kListCmo].x, 1u);
+        tiles.entries[i * kTileLists + kListCmo] = tiles.entries[gl_WorkGroupID.x * kTileLists + kListTrace];
     }
 }
