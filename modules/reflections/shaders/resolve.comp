@@ -19,7 +19,8 @@
 // compiles the screen-space term out, kListLookupRough also the steps that serve only lobes
 // narrower than kNarrowLobeMaxRoughness (probe.h: the probes' distance march, the planar image,
 // the grounds), and kListResolveFill writes what a pixel that reflects nothing gets. Each
-// variant gives its pixels the full shader's bits (capture.tiles_equal).
+// variant gives its pixels the full shader's values (capture.tiles_equal: the same bits but for
+// a few values one half-float step apart, the rough variant's rounding of the same math).
 #include "reflections/shaders/tiles.glsl"
 const bool kNoRay = kTileMode == kTileModeLookup || kTileMode == kTileModeRough;
 #define PROBES_NARROW_LOBES (kTileMode != kTileModeRough)
