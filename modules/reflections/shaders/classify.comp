@@ -102,8 +102,7 @@ void main() {
         uint add = ((sub & 7u) << (3u * gl_SubgroupID)) + (1u << kArrivalCountShift);
         uint before = atomicAdd(tiles.entries[word], add);
         if (((before >> kArrivalCountShift) & 15u) == gl_NumSubgroups - 1u) {
-            uint all = before + add, n = (all >> kArrivalRareShift) & (kNeedCone | kNeedNarrow);
-            for (uint k = 0u; k < gl_NumSubgroups; ++k) n |= (all >> (3u * k)) & 7u;
+            uint n = tileNeeds(before + add);
             uint tile = gl_WorkGroupID.x | (gl_WorkGroupID.y << 16);
             bool ray = (n & kNeedRay) != 0u;
             if (ray) append(kListTrace, tile);

@@ -81,14 +81,12 @@ vec3 debugView(uint view, ivec2 pixel, bool reflective, vec3 lit) {
         return vec3(0.05);
     }
     if (view == 8u) {
-        // The tile's needs as classify gathered them (tiles.h, kListArrivals: 3 bits per subgroup,
-        // the rarer two above the arrival count).
+        // The tile's needs as classify gathered them (tiles.glsl's tileNeeds).
         ivec2 traceSize = ivec2(ceil(rf.size.xy / rf.traceScale));
         ivec2 tile = ivec2(vec2(pixel) / rf.traceScale) / int(kTileSize);
         int tilesX = (traceSize.x + int(kTileSize) - 1) / int(kTileSize);
         uint word = tiles.entries[uint(tile.y * tilesX + tile.x) * kTileLists + kListArrivals];
-        uint needs = (word >> kArrivalRareShift) & (kNeedCone | kNeedNarrow);
-        for (uint k = 0u; k < 8u; ++k) needs |= (word >> (3u * k)) & 7u;
+        uint needs = tileNeeds(word);
         bool ray = (needs & kNeedRay) != 0u, cmo = (needs & kNeedCmo) != 0u;
         vec3 c = ray ? (cmo ? vec3(0.9, 0.8, 0.1) : vec3(0.1, 0.8, 0.2)) : (cmo ? vec3(0.8, 0.2, 0.8) : vec3(0.15, 0.3, 0.9));
         // The resolve's lighter variants (tiles.h): rays without a cone lighter, lookups with

@@ -24,6 +24,16 @@ ivec2 tilePixel(uint list) {
     return ivec2(e & 0xffffu, e >> 16) * int(kTileSize) + ivec2(gl_LocalInvocationID.xy);
 }
 
+// What a tile's pixels need (kNeed* bits) from its kListArrivals word as classify left it:
+// three bits per subgroup (kNeedRay, kNeedCmo, kNeedResolve) in bits 0-23, and the rarer two
+// (kNeedCone, kNeedNarrow) ORed in above the arrival count (tiles.h). Unused subgroups' bits
+// are 0, so all eight fields are read.
+uint tileNeeds(uint word) {
+    uint needs = (word >> kArrivalRareShift) & (kNeedCone | kNeedNarrow);
+    for (uint k = 0u; k < 8u; ++k) needs |= (word >> (3u * k)) & 7u;
+    return needs;
+}
+
 // The full-resolution passes on the trace's tiles (reflections.reproject, reflections.composite):
 // a tile's footprint is kTileSize * scale full pixels a side (scale 2 at half resolution), in
 // scale x scale blocks of kTileSize, a workgroup each (reflections.footprint_args: x the list's
