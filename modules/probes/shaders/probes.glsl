@@ -33,9 +33,23 @@ layout(set = 0, binding = PROBES_DISTANCE_BINDING) uniform samplerCubeArray prob
 // the reference's (--bounces 2: gallery.main's planar floor 22.63 -> 22.02 dB).
 #ifdef PROBES_CAPTURE
 const bool kProbeMirrorHits = false;
+const bool kProbeHiddenAlongRay = false;
 #else
 const bool kProbeMirrorHits = true;
+// Whether a ray whose proxy point the capture point cannot see (probeSurfaceT's `hidden`) reads
+// the cube along its own direction, as a probe without parallax correction does, instead of at
+// the proxy point, where the cube holds whatever hid it. failure_cases' floor showed its overhead
+// strip 4 px off where its rays pass behind the strip to the sky (the captured strip hid the
+// proxy point); the chrome objects' undersides in cornell_mirrors showed themselves. Mirror
+// band: failure_cases 17.99 -> 19.13, concave_close 30.98 -> 32.46, blob_close 20.46 -> 20.81,
+// the suite's mean 22.04 -> 22.40 dB (modules/probes/MEASUREMENTS.md, 2026-12-07). Only in the
+// main view's chain: in the captures it cost blob_close's rough band 0.8 dB.
+const bool kProbeHiddenAlongRay = true;
 #endif
+// And only for mirrors' lobes: the direction is a guess, which a glossy lobe seen at a grazing
+// angle gets badly wrong (gallery.floor_grazing's 0.3 floor band, probes alone: rough band
+// 18.98 -> 18.25 dB without this bound).
+const float kProbeHiddenMaxRoughness = 0.05;
 #endif
 
 // Influence of a probe at world point p with unit normal n: 1 inside the shape, falling linearly
@@ -92,8 +106,10 @@ float probeSlack(float len) {
 // Distance Impostors", 2005). A refined point off the surface by more than probeSlack is the ray
 // passing behind a silhouette as the capture point sees it, not a hit, and the walk goes on.
 // Without a hit the proxy's t is kept: the walk never answers worse than the box where it finds
-// nothing; it misses what is thinner than a step (README, failure modes).
-float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy) {
+// nothing; it misses what is thinner than a step (README, failure modes). `hidden`: no hit, and
+// the proxy's point lies behind what the capture point saw toward it (more than probeSlack), so
+// the cube holds an occluder there, not what the ray meets.
+float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy, out bool hidden) {
     vec3 o = p - pr.center.xyz;
     int steps = int(pr.params.z);
     // The first point clears the pixel's own surface, which the capture point may see.
@@ -107,7 +123,11 @@ float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy) {
         if (!done && fPrev < -probeSlack(length(o + r * tPrev)) && f >= 0.0) {
             float lo = tPrev, hi = t, flo = fPrev, fhi = f, ts = lo;
             for (int j = 0; j < 2; ++j) {
-                ts = lo + (hi - lo) * (-flo) / max(fhi - flo, 1e-6);
+                // The secant on f clamped to the bracket's length: a point in front of the sky
+                // is 65504 m in front, and the unclamped secant then lands on hi at once and
+                // never nears the surface (failure_cases' overhead strip, 2026-12-07).
+                float span = hi - lo, a = max(flo, -span), b = min(fhi, span);
+                ts = lo + span * (-a) / max(b - a, 1e-6);
                 float fs = probeBehind(pr, o + r * ts);
                 if (fs < 0.0) {
                     lo = ts;
@@ -126,6 +146,7 @@ float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy) {
     // A hit on the proxy itself (a room's wall on its box) takes the proxy's exact t: the march's
     // is the distance cube's, a texel and a half-float step coarser, and moved the room's
     // reflected corners by a pixel (accuracy.registration, flat_screen_space).
+    hidden = found == tProxy && fPrev > probeSlack(length(o + r * tProxy));
     return abs(found - tProxy) <= probeSlack(length(o + r * tProxy)) ? tProxy : found;
 }
 #endif
@@ -155,10 +176,12 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         float t = probeProxyT(pr, p, r);
         vec3 o = p, d = r;
         float F = 1.0;
+        bool hidden = false;
 #ifdef PROBES_DISTANCE_BINDING
         if (PROBES_NARROW_LOBES && roughness < kNarrowLobeMaxRoughness && pr.params.z > 0.0) {
             vec3 ru = normalize(r);
-            t = probeSurfaceT(pr, p, ru, t);
+            t = probeSurfaceT(pr, p, ru, t, hidden);
+            hidden = hidden && kProbeHiddenAlongRay && roughness < kProbeHiddenMaxRoughness;
             // A captured mirror where the ray lands (a smooth metal: the distance cube's gba is
             // its normal times its mean F0) holds its reflection toward the capture point, not
             // along this ray: the ray reflects there and reads the cube again, from the proxy.
@@ -182,7 +205,7 @@ vec4 sampleProbes(uint count, vec3 p, vec3 n, vec3 r, float roughness, out float
         // roughness as it grows). Only from kNarrowLobeMaxRoughness up: below it the lobe is
         // narrow and its hit found on the captured surface, and there it cost plain_metals'
         // mirror band 0.19 dB (MEASUREMENTS.md in modules/reflections).
-        vec3 look = o + d * t - pr.center.xyz;
+        vec3 look = hidden ? r : o + d * t - pr.center.xyz;
         float near = clamp(t / max(length(look), 1e-3) * roughness, 0.0, roughness);
         float lod = roughness < kNarrowLobeMaxRoughness ? roughness : mix(near, roughness, roughness);
         vec4 c = textureLod(probeCubes, vec4(look, pr.params.x), lod * pr.params.y);
