@@ -146,8 +146,9 @@ float probeSurfaceT(Probe pr, vec3 p, vec3 r, float tProxy, out bool hidden) {
     // A hit on the proxy itself (a room's wall on its box) takes the proxy's exact t: the march's
     // is the distance cube's, a texel and a half-float step coarser, and moved the room's
     // reflected corners by a pixel (accuracy.registration, flat_screen_space).
-    hidden = found == tProxy && fPrev > probeSlack(length(o + r * tProxy));
-    return abs(found - tProxy) <= probeSlack(length(o + r * tProxy)) ? tProxy : found;
+    float slackAtProxy = probeSlack(length(o + r * tProxy));
+    hidden = found == tProxy && fPrev > slackAtProxy;
+    return abs(found - tProxy) <= slackAtProxy ? tProxy : found;
 }
 #endif
 
