@@ -64,18 +64,23 @@ vec3 specularF0(vec3 baseColor, float metallic) {
 // Full BRDF f(l, v) times cos(theta_l): multiply by the light's radiance (irradiance for
 // punctual lights) to get outgoing radiance. n, v, l are unit vectors, v and l point away
 // from the surface.
-vec3 evalBRDFCos(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
-    float NoL = dot(n, l);
-    if (NoL <= 0.0) return vec3(0.0);
+// The specular lobe D V F for light l (NoL > 0) seen from v. f0: specularF0(); alpha:
+// roughnessToAlpha().
+vec3 specularLobe(vec3 n, vec3 v, vec3 l, float NoL, vec3 f0, float alpha) {
     vec3 h = normalize(v + l);
     // Clamped so that grazing views (normal-mapped or interpolated normals facing away) stay
     // finite instead of producing NaN.
     float NoV = max(dot(n, v), 1e-4);
     float NoH = clamp(dot(n, h), 0.0, 1.0);
     float VoH = clamp(dot(v, h), 0.0, 1.0);
-    float alpha = roughnessToAlpha(perceptualRoughness);
-    vec3 F = F_Schlick(specularF0(baseColor, metallic), VoH);
-    vec3 specular = D_GGX(NoH, alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * F;
+    vec3 F = F_Schlick(f0, VoH);
+    return D_GGX(NoH, alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * F;
+}
+
+vec3 evalBRDFCos(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
+    float NoL = dot(n, l);
+    if (NoL <= 0.0) return vec3(0.0);
+    vec3 specular = specularLobe(n, v, l, NoL, specularF0(baseColor, metallic), roughnessToAlpha(perceptualRoughness));
     vec3 diffuse = diffuseColor(baseColor, metallic) * Fd_Lambert();
     return (diffuse + specular) * NoL;
 }

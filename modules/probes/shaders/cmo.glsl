@@ -91,50 +91,128 @@ float cmoTolerance(CmoRecord c, float d, float thickness) {
     return thickness + 4.0 * d * c.params.w;
 }
 
+// Where q falls among the level-0 texel centres of face f (axes m, s, t): the lower-left centre
+// i0 of the four around it and the weights w toward the upper-right.
+void cmoBilinear(CmoRecord c, vec3 m, vec3 s, vec3 t, vec3 q, out ivec2 i0, out vec2 w) {
+    vec2 st = vec2(dot(q, s), dot(q, t)) / max(dot(q, m), 1e-6);
+    vec2 x = (st * 0.5 + 0.5) * c.center.w - 0.5;
+    i0 = ivec2(floor(x));
+    w = x - vec2(i0);
+}
+
+// The captured surface from four texel distances around a point (weights w): bilinear where they
+// belong to one surface, the nearest texel's across a silhouette (neighbours further apart than a
+// surface at 83 degrees to the line of sight steps, 8 texel footprints): no surface joins them
+// there, and a bilinear sheet would catch every ray that passes behind the nearer object.
+float cmoSmooth(CmoRecord c, float d00, float d10, float d01, float d11, vec2 w) {
+    float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
+    if (hi > lo * (1.0 + 8.0 * c.params.w)) return w.y < 0.5 ? (w.x < 0.5 ? d00 : d10) : (w.x < 0.5 ? d01 : d11);
+    return mix(mix(d00, d10, w.x), mix(d01, d11, w.x), w.y);
+}
+
 // The captured surface's distance toward q, bilinear between the four level-0 texel centres
 // around q on its face (clamped at the face's edges): a continuous surface where the texels
 // are a staircase, to confirm and place a crossing the staircase suggests.
 // The face is the caller's (f and its axes m, s, t): the refinement stays on the face it began
 // on (clamped at its edge), which keeps the dynamically indexed face tables out of its loop.
 float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
+    ivec2 i0;
+    vec2 w;
+    cmoBilinear(c, m, s, t, q, i0, w);
     int n = int(c.center.w);
-    vec2 st = vec2(dot(q, s), dot(q, t)) / max(dot(q, m), 1e-6);
-    vec2 x = (st * 0.5 + 0.5) * float(n) - 0.5;
-    ivec2 i0 = ivec2(floor(x));
-    vec2 w = x - vec2(i0);
     ivec2 a = clamp(i0, ivec2(0), ivec2(n - 1)), b = clamp(i0 + 1, ivec2(0), ivec2(n - 1));
     int layer = int(c.params.x) + f, base = int(c.params.y);
     float d00 = texelFetch(cmoDistance, ivec3(a.x, a.y, layer), base).x;
     float d10 = texelFetch(cmoDistance, ivec3(b.x, a.y, layer), base).x;
     float d01 = texelFetch(cmoDistance, ivec3(a.x, b.y, layer), base).x;
     float d11 = texelFetch(cmoDistance, ivec3(b.x, b.y, layer), base).x;
-    // Across a silhouette (neighbours further apart than a surface at 83 degrees to the line of
-    // sight steps, 8 texel footprints) no surface joins them: a bilinear sheet there would
-    // catch every ray that passes behind the nearer object. The texel's own distance instead.
-    float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
-    if (hi > lo * (1.0 + 8.0 * c.params.w)) return w.y < 0.5 ? (w.x < 0.5 ? d00 : d10) : (w.x < 0.5 ? d01 : d11);
-    return mix(mix(d00, d10, w.x), mix(d01, d11, w.x), w.y);
+    return cmoSmooth(c, d00, d10, d01, d11, w);
+}
+
+// The 3x3 level-0 texels around one texel (clamped at the face's edges, as cmoDistanceSmooth
+// clamps): every point inside that texel has its four bilinear neighbours among them. A
+// refinement inside one texel reads its nine distances once instead of four per evaluation.
+// Rows in y, each vec3 in x from `first` (the texel less one), not an array: an array indexed
+// per lane goes to memory on a SIMD CPU driver (STYLE.md).
+struct CmoWindow {
+    ivec2 first;
+    vec3 row0, row1, row2;
+};
+
+CmoWindow cmoWindowAround(CmoRecord c, int f, ivec2 texel) {
+    int n = int(c.center.w);
+    int layer = int(c.params.x) + f, base = int(c.params.y);
+    CmoWindow win;
+    win.first = texel - 1;
+    ivec3 x = clamp(ivec3(texel.x - 1, texel.x, texel.x + 1), ivec3(0), ivec3(n - 1));
+    ivec3 y = clamp(ivec3(texel.y - 1, texel.y, texel.y + 1), ivec3(0), ivec3(n - 1));
+    win.row0 = vec3(texelFetch(cmoDistance, ivec3(x.x, y.x, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.y, y.x, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.z, y.x, layer), base).x);
+    win.row1 = vec3(texelFetch(cmoDistance, ivec3(x.x, y.y, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.y, y.y, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.z, y.y, layer), base).x);
+    win.row2 = vec3(texelFetch(cmoDistance, ivec3(x.x, y.z, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.y, y.z, layer), base).x,
+                    texelFetch(cmoDistance, ivec3(x.z, y.z, layer), base).x);
+    return win;
+}
+
+float cmoPick(vec3 v, int k) {
+    return k <= 0 ? v.x : (k == 1 ? v.y : v.z);
+}
+
+// cmoDistanceSmooth's value from the window, for q inside (or within half a texel of) the
+// window's middle texel; further out the window's edge texels stand in (the clamp).
+float cmoDistanceWindow(CmoRecord c, CmoWindow win, vec3 m, vec3 s, vec3 t, vec3 q) {
+    ivec2 i0;
+    vec2 w;
+    cmoBilinear(c, m, s, t, q, i0, w);
+    ivec2 a = clamp(i0 - win.first, ivec2(0), ivec2(2)), b = clamp(i0 + 1 - win.first, ivec2(0), ivec2(2));
+    vec3 ra = a.y <= 0 ? win.row0 : (a.y == 1 ? win.row1 : win.row2);
+    vec3 rb = b.y <= 0 ? win.row0 : (b.y == 1 ? win.row1 : win.row2);
+    return cmoSmooth(c, cmoPick(ra, a.x), cmoPick(ra, b.x), cmoPick(rb, a.x), cmoPick(rb, b.x), w);
 }
 
 // The refinement step: a crossing the staircase suggests between lo (in front) and hi, on the
 // smooth surface. Returns its t (bisection), -1 when the smooth surface has the ray still in
 // front at hi (a staircase step, not a crossing: go on), or -2 when the smooth crossing lies
 // deeper than the tolerance behind (a silhouette the ray passed behind).
-float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness) {
+// Five halvings (1/32 of the bracket) and the smooth distance kept from the step that last set
+// hi: six evaluations where seven halvings and a separate final evaluation took nine. Regula
+// falsi (Illinois) with three steps was tried too and lost 0.06-0.19 dB on four views: across a
+// reflected silhouette the distance jumps, and the secant places the crossing inside the jump
+// where the bisection finds its edge (reflections MEASUREMENTS.md, 2026-12-07).
+// `inTexel`: the bracket lies in one level-0 texel (the hierarchical walk's candidates), so the
+// evaluations read the 3x3 window around hi's texel (9 fetches, not 24); the linear march's
+// bracket is a world step long and reads each evaluation's own four.
+float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness, bool inTexel) {
     vec3 h = o + r * hi;
     int f = cmoFace(h);
     vec3 fm, fs, ft;
     cmoAxes(f, fm, fs, ft);
-    if (length(h) <= cmoDistanceSmooth(c, f, fm, fs, ft, h)) return -1.0;
-    for (int k = 0; k < 7; ++k) {
+    CmoWindow win;
+    if (inTexel) {
+        ivec2 i0;
+        vec2 w;
+        cmoBilinear(c, fm, fs, ft, o + r * (0.5 * (lo + hi)), i0, w);
+        win = cmoWindowAround(c, f, clamp(i0 + ivec2(greaterThanEqual(w, vec2(0.5))), ivec2(0), ivec2(int(c.center.w) - 1)));
+    }
+    float dHi = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, h) : cmoDistanceSmooth(c, f, fm, fs, ft, h);
+    float lenHi = length(h);
+    if (lenHi <= dHi) return -1.0;
+    for (int k = 0; k < 5; ++k) {
         float mid = 0.5 * (lo + hi);
         vec3 q = o + r * mid;
-        if (length(q) > cmoDistanceSmooth(c, f, fm, fs, ft, q)) hi = mid;
-        else lo = mid;
+        float d = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, q) : cmoDistanceSmooth(c, f, fm, fs, ft, q);
+        float len = length(q);
+        bool behind = len > d;
+        hi = behind ? mid : hi;
+        dHi = behind ? d : dHi;
+        lenHi = behind ? len : lenHi;
+        lo = behind ? lo : mid;
     }
-    h = o + r * hi;
-    float d = cmoDistanceSmooth(c, f, fm, fs, ft, h);
-    return length(h) - d <= cmoTolerance(c, d, thickness) ? hi : -2.0;
+    return lenHi - dHi <= cmoTolerance(c, dHi, thickness) ? hi : -2.0;
 }
 
 // Where a ray that starts on a surface the CMO captured leaves that surface. The CMO knows the
@@ -230,7 +308,7 @@ int cmoTraceHierarchical(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float 
             if (!candidate) break;
             // Confirmed and placed on the smooth surface from where the ray was last known in
             // front (tFront) to the texel's exit.
-            float th = cmoRefine(c, o, r, tFront, tb, thickness);
+            float th = cmoRefine(c, o, r, tFront, tb, thickness, true);
             if (th >= 0.0) {
                 tHit = th;
                 return kCmoHit;
@@ -271,7 +349,7 @@ int cmoTraceLinear(CmoRecord c, vec3 o, vec3 r, vec3 n, float tMax, float step, 
             prev = t;
         }
         if (!candidate) return kCmoUnresolved;
-        float th = cmoRefine(c, o, r, prev, t, thickness);
+        float th = cmoRefine(c, o, r, prev, t, thickness, false);
         if (th >= 0.0) {
             tHit = th;
             return kCmoHit;
