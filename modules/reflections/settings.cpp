@@ -93,7 +93,11 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "down the chain to the local probes, or traced once more through the first CMO as if it "
          "passed behind what hid it (right behind thin occluders, wrong where it meets one's "
          "unseen back)."}),
-        bind<&R::cmoMaxRoughness>({"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.5, {},
+        // 0.25, not 0.5 (issue 23, reflections/MEASUREMENTS.md 2026-12-07): the gallery's 0.3 floor
+        // band was a fifth of reflections.cmo_trace there, two thirds of its rays ended unresolved,
+        // and the local probes scored it 0.07 dB higher; no view of the bench's scenes (the closed
+        // room's placed CMOs included) lost more than 0.03 dB in its mirror band without it.
+        bind<&R::cmoMaxRoughness>({"reflections.cmo_max_roughness", T::Float, "", 0, 1, 0.25, {},
          "CMOs trace reflections up to this perceptual roughness (glossy rays read the colour "
          "mips by the cone's footprint at the hit); rougher goes to the local probes."}),
         bind<&R::resolution>({"reflections.resolution", T::Enum, "", 0, 1, 0, {"full", "half"},
