@@ -184,7 +184,8 @@ float cmoDistanceWindow(CmoRecord c, CmoWindow win, vec3 m, vec3 s, vec3 t, vec3
 // reflected silhouette the distance jumps, and the secant places the crossing inside the jump
 // where the bisection finds its edge (reflections MEASUREMENTS.md, 2026-12-07).
 // `inTexel`: the bracket lies in one level-0 texel (the hierarchical walk's candidates), so the
-// evaluations read the 3x3 window around hi's texel (9 fetches, not 24); the linear march's
+// evaluations read the 3x3 window around the texel of the bracket's middle (9 fetches, not 24;
+// not hi's texel: hi is the cell's exit, on the edge of the next one); the linear march's
 // bracket is a world step long and reads each evaluation's own four.
 float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness, bool inTexel) {
     vec3 h = o + r * hi;
