@@ -61,9 +61,6 @@ vec3 specularF0(vec3 baseColor, float metallic) {
     return mix(kDielectricF0, baseColor, metallic);
 }
 
-// Full BRDF f(l, v) times cos(theta_l): multiply by the light's radiance (irradiance for
-// punctual lights) to get outgoing radiance. n, v, l are unit vectors, v and l point away
-// from the surface.
 // The specular lobe D V F for light l (NoL > 0) seen from v. f0: specularF0(); alpha:
 // roughnessToAlpha().
 vec3 specularLobe(vec3 n, vec3 v, vec3 l, float NoL, vec3 f0, float alpha) {
@@ -77,6 +74,16 @@ vec3 specularLobe(vec3 n, vec3 v, vec3 l, float NoL, vec3 f0, float alpha) {
     return D_GGX(NoH, alpha) * V_SmithGGXCorrelated(NoV, NoL, alpha) * F;
 }
 
+// The specular lobe alone times cos(theta_l): what a surface's direct light adds that depends
+// on the view (the Lambert lobe does not).
+vec3 specularBRDFCos(vec3 n, vec3 v, vec3 l, vec3 f0, float alpha) {
+    float NoL = dot(n, l);
+    return NoL > 0.0 ? specularLobe(n, v, l, NoL, f0, alpha) * NoL : vec3(0.0);
+}
+
+// Full BRDF f(l, v) times cos(theta_l): multiply by the light's radiance (irradiance for
+// punctual lights) to get outgoing radiance. n, v, l are unit vectors, v and l point away
+// from the surface.
 vec3 evalBRDFCos(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
     float NoL = dot(n, l);
     if (NoL <= 0.0) return vec3(0.0);

@@ -35,19 +35,19 @@ layout(push_constant) uniform Push {
 
 // The direct specular render.lighting added for view direction v (evalBRDFCos less its diffuse).
 vec3 directSpecular(vec3 p, vec3 n, vec3 v, vec4 albedo, float roughness, float sun) {
-    vec3 diffuse = diffuseColor(albedo.rgb, albedo.a) * Fd_Lambert();
+    vec3 f0 = specularF0(albedo.rgb, albedo.a);
+    float alpha = roughnessToAlpha(roughness);
     vec3 sum = vec3(0.0);
     uint i = 0u;
     for (; i < kDirectionalLights; ++i) {
         GpuLight light = sceneLight(i);
         vec3 l = -light.directionRange.xyz;
-        vec3 f = evalBRDFCos(n, v, l, albedo.rgb, albedo.a, roughness) - diffuse * max(dot(n, l), 0.0);
-        sum += f * light.radiance.rgb * (light.radiance.w > 0.0 ? sun : 1.0);
+        sum += specularBRDFCos(n, v, l, f0, alpha) * light.radiance.rgb * (light.radiance.w > 0.0 ? sun : 1.0);
     }
     for (; i < kLights; ++i) {
         vec3 l;
         vec3 radiance = incidentRadiance(sceneLight(i), p, l);
-        sum += (evalBRDFCos(n, v, l, albedo.rgb, albedo.a, roughness) - diffuse * max(dot(n, l), 0.0)) * radiance;
+        sum += specularBRDFCos(n, v, l, f0, alpha) * radiance;
     }
     return sum;
 }
