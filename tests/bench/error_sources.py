@@ -2,9 +2,10 @@
 """Where a view's mirror-band error comes from (issue 24): the share of its squared error by the
 method that answered each pixel, and for screen-space pixels by what the hit landed on.
 
-    error_sources.py --capture BIN --view SCENE.CAMERA [--scene FILE] [--set KEY=VALUE]... [--out DIR] [--blocks N]
+    error_sources.py --capture BIN --view SCENE.CAMERA [--size WxH] [--scene FILE] [--set KEY=VALUE]... [--out DIR] [--blocks N]
 
-It captures the view at its converged reference's size (assets/references, tests/reference/README.md)
+It captures the view at its converged reference's size (assets/references, tests/reference/README.md;
+`--size` picks one where the view has several, by default the smallest)
 with the reflection, method and hit AOVs after 8 warm-up frames, and scores the mirror band as
 the bench does (reflective in the reference, the reference's reflection roughness below 0.3,
 converged pixels only, clamped after the scene's exposure). Classes: the method whose weight is above one
@@ -39,14 +40,16 @@ def main():
     ap.add_argument("--view", required=True, help="SCENE.CAMERA with a converged reference")
     ap.add_argument("--scene", help="the scene file to capture (default assets/scenes/SCENE.gltf): a variant of the "
                     "view's scene, say with other probes, scored against the same reference")
+    ap.add_argument("--size", help="WxH: the converged reference's size, where the view has several")
     ap.add_argument("--set", action="append", default=[])
     ap.add_argument("--out")
     ap.add_argument("--blocks", type=int, default=6)
     a = ap.parse_args()
     scene, camera = a.view.split(".", 1)
-    refs = sorted((SOURCE / "assets" / "references").glob(f"{scene}.{camera}.*"))
+    refs = sorted((SOURCE / "assets" / "references").glob(f"{scene}.{camera}.{a.size or '*'}.*"),
+                  key=lambda d: int(d.name.split(".")[-2].split("x")[0]))
     if not refs:
-        sys.exit(f"error_sources.py: no converged reference for {a.view} in assets/references")
+        sys.exit(f"error_sources.py: no converged reference for {a.view}{' at ' + a.size if a.size else ''} in assets/references")
     ref_dir = refs[0]
     info = json.loads((ref_dir / "reference.json").read_text())
     w, h, scale = info["width"], info["height"], info["exposure"]

@@ -195,3 +195,39 @@ TEST_F(UpsampleGpu, ConstantImageStaysConstant) {
         }
     EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
 }
+
+// The full pixel its 2x2 traced (the guide's index) keeps that sample's value exactly, where a
+// blend of the four neighbours would blur a curved mirror's reflection (MEASUREMENTS.md, issue
+// 23: half resolution's mirror band +0.11 dB on the presets suite). Every other pixel stays a
+// convex blend, within its four samples' range.
+TEST_F(UpsampleGpu, TracedPixelKeepsItsValue) {
+    Images im;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) im.depth.push_back(0.4f + 0.002f * float(x) + 0.001f * float((x * 7 + y * 3) % 5));
+    im.guide = makeGuide(im.depth);
+    for (uint32_t i = 0; i < LW * LH; ++i) {
+        float v = float((i * 37u) % 11u) * 0.25f;  // neighbours differ by up to 2.5
+        im.lowA.emplace_back(v, 2.5f - v, 1.0f, 1.0f);
+        im.lowB.emplace_back(1.0f, v, 0.0f, 0.5f);
+    }
+    auto out = upsample(*ctx_, im);
+    int exact = 0;
+    for (uint32_t y = 0; y < LH; ++y)
+        for (uint32_t x = 0; x < LW; ++x) {
+            uint32_t index = (uint32_t(im.guide[y * LW + x].w) - 1u) & 3u;
+            uint32_t px = 2 * x + (index & 1), py = 2 * y + (index >> 1);
+            glm::vec4 want = im.lowA[y * LW + x], got = at(out[0], px, py);
+            EXPECT_NEAR(got.r, want.r, 2e-3f) << "traced pixel " << px << "," << py;
+            EXPECT_NEAR(got.g, want.g, 2e-3f) << "traced pixel " << px << "," << py;
+            EXPECT_NEAR(at(out[1], px, py).g, want.r, 2e-3f) << "traced pixel " << px << "," << py;
+            exact += std::abs(got.r - want.r) <= 2e-3f;
+        }
+    EXPECT_EQ(exact, int(LW * LH));
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            float r = at(out[0], x, y).r;
+            EXPECT_GE(r, -1e-3f) << x << "," << y;
+            EXPECT_LE(r, 2.5f + 2e-3f) << x << "," << y;
+        }
+    EXPECT_EQ(gpu::Context::validationMessageCount(), 0);
+}
