@@ -74,6 +74,8 @@ def check_args(args):
         raise InputError(f"--budget-db {args.budget_db}: not a number", 2)
     if not math.isfinite(args.budget_db):
         raise InputError(f"--budget-db {args.budget_db}: must be a finite number of dB", 2)
+    if not (math.isfinite(args.max_view_loss_db) and args.max_view_loss_db >= 0.0):
+        raise InputError(f"--max-view-loss-db {args.max_view_loss_db}: must be a finite number of dB, 0 or more", 2)
     args.size_wh = parse_size(args.size)
     try:
         res = [int(x) for x in args.resolutions.split(",") if x.strip()]
@@ -160,6 +162,10 @@ def main(argv=None):
     pl.add_argument("--frames", type=int, default=2, help="speculum-capture counted frames (default 2)")
     pl.add_argument("--tries", type=int, default=3, help="candidates measured per ADD step (default 3)")
     pl.add_argument("--move-tries", type=int, default=2, help="positions tried per MOVE step (default 2)")
+    pl.add_argument("--max-view-loss-db", type=float, default=0.5,
+                    help="DROP and RESOLUTION keep a cut only where no view loses more than this against the "
+                         "configuration before it (default 0.5 dB; PLACEMENT.md: the mean alone traded one "
+                         "view's 1.5 dB for another's 1.9)")
     pl.add_argument("--candidates", type=int, default=12, help="candidate centres proposed (default 12)")
     pl.add_argument("--grid", type=int, default=48, help="sample rays across each view (default 48)")
     pl.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",

@@ -184,6 +184,8 @@ class Arguments(Scene):
             ({"--resolutions": "48,128"}, 2, "power of two"),
             ({"--resolutions": "16"}, 2, "power of two"),
             ({"--max-cmos": "0"}, 2, "at least 1"),
+            ({"--max-view-loss-db": "-1"}, 2, "0 or more"),
+            ({"--max-view-loss-db": "nan"}, 2, "0 or more"),
             ({"--out": str(self.dir)}, 2, ".gltf"),
             ({"--out": str(self.dir / "x.glb")}, 2, ".gltf"),
             ({"--out": str(self.dir / "no" / "such" / "o.gltf")}, 2, "does not exist"),
@@ -281,7 +283,9 @@ class Loop(Scene):
                 code = sp.main(["--capture", "/bin/true", "--reference", "/bin/true", "--metrics", "/bin/true",
                                 "place", "--scene", str(self.path), "--budget-db", str(budget), "--out", str(out),
                                 "--max-cmos", str(max_cmos), "--tries", str(tries), "--move-tries", "0",
-                                "--resolutions", "32,64,128", "--size", "160x90", "--grid", "32"])
+                                "--resolutions", "32,64,128", "--size", "160x90", "--grid", "32",
+                                # one view: the budget alone decides here (ViewGuard tests the guard)
+                                "--max-view-loss-db", "100"])
         finally:
             loop.Measurer, sp.probe_capture = real_m, real_p
         report = json.loads(out.with_name(out.stem + ".placement.json").read_text())
@@ -315,6 +319,55 @@ class Loop(Scene):
         self.assertEqual(rep["final"]["count"], 2)
         self.assertAlmostEqual(rep["final"]["mean_psnr_db"], 15.0)
         self.assertIn("NOT met", log)
+
+
+class ViewGuard(Scene):
+    """DROP judged per view, not by the budget alone (cornell_mirrors, 2026-12-07): once the
+    second CMO is placed, the scene without the first still meets the budget, while view `main`
+    loses 1.5 dB."""
+
+    def run_guard(self, *extra):
+        def views(cmos):
+            has0 = any(c["rank"] == 0 for c in cmos)
+            other = any(c["rank"] != 0 for c in cmos)
+            a, b = {(False, False): (10.0, 10.0), (True, False): (11.0, 10.5),
+                    (False, True): (10.5, 13.5), (True, True): (12.0, 13.0)}[(has0, other)]
+            return {"main": a, "second": b}  # the scene has one camera: the second view is the fake's
+
+        class FakeMeasurer:
+            def __init__(self, *a, **k):
+                self.planars = []
+                self.count = 0
+
+            def key(self, cmos, planars=None):
+                return json.dumps([[list(c["pos"]), c["res"], c["order"]] for c in cmos])
+
+            def measure(self, cmos, planars=None):
+                self.count += 1
+                v = views(cmos)
+                return {"mean": (v["main"] + v["second"]) / 2, "per_view": v, "ms": 1.0, "seconds": 0.0}
+
+        real_m, real_p = loop.Measurer, sp.probe_capture
+        loop.Measurer, sp.probe_capture = FakeMeasurer, lambda *a: None
+        out = self.dir / "guard.gltf"
+        try:
+            with contextlib.redirect_stdout(io.StringIO()) as log:
+                code = sp.main(["--capture", "/bin/true", "--reference", "/bin/true", "--metrics", "/bin/true",
+                                "place", "--scene", str(self.path), "--budget-db", "11.5", "--out", str(out),
+                                "--max-cmos", "2", "--tries", "1", "--move-tries", "0", "--views", "main",
+                                "--resolutions", "32,64,128", "--size", "160x90", "--grid", "32", *extra])
+        finally:
+            loop.Measurer, sp.probe_capture = real_m, real_p
+        return code, json.loads(out.with_name(out.stem + ".placement.json").read_text()), log.getvalue()
+
+    def test_a_drop_that_costs_one_view_is_refused(self):
+        code, rep, log = self.run_guard()
+        self.assertEqual(code, 0, log)
+        self.assertEqual(rep["final"]["count"], 2, log)
+        self.assertEqual(rep["final"]["per_view_psnr_db"], {"main": 12.0, "second": 13.0})
+        # Without the guard the mean alone decides: the first CMO is dropped (12.0 >= 11.5).
+        code, rep, log = self.run_guard("--max-view-loss-db", "100")
+        self.assertEqual((code, rep["final"]["count"]), (0, 1), log)
 
 
 if __name__ == "__main__":
