@@ -51,6 +51,9 @@ void cmoAxes(int f, out vec3 m, out vec3 s, out vec3 t) {
 const int kCmoMiss = 0;        // the ray reached its end in front of everything the CMO saw
 const int kCmoHit = 1;
 const int kCmoUnresolved = 2;  // it passed behind a surface, or starts where the CMO cannot see
+// probes.cmo_store writes SPECULUM_CMO_SKY_DISTANCE (cmo.h) where a face saw the sky: a distance
+// above half of it is no surface.
+const float kCmoSky = 0.5 * SPECULUM_CMO_SKY_DISTANCE;
 
 int cmoFace(vec3 d) {
     vec3 a = abs(d);
@@ -104,9 +107,14 @@ void cmoBilinear(CmoRecord c, vec3 m, vec3 s, vec3 t, vec3 q, out ivec2 i0, out 
 // belong to one surface, the nearest texel's across a silhouette (neighbours further apart than a
 // surface at 83 degrees to the line of sight steps, 8 texel footprints): no surface joins them
 // there, and a bilinear sheet would catch every ray that passes behind the nearer object.
-float cmoSmooth(CmoRecord c, float d00, float d10, float d01, float d11, vec2 w) {
+// `skyEdge`: the four straddle a silhouette against the sky, the edge of an opening (a wall's
+// end at a window, the open side of a box), which the nearest texel places anywhere within half
+// a texel of where it is.
+float cmoSmooth(CmoRecord c, float d00, float d10, float d01, float d11, vec2 w, out bool skyEdge) {
     float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
-    if (hi > lo * (1.0 + 8.0 * c.params.w)) return w.y < 0.5 ? (w.x < 0.5 ? d00 : d10) : (w.x < 0.5 ? d01 : d11);
+    bool silhouette = hi > lo * (1.0 + 8.0 * c.params.w);
+    skyEdge = silhouette && hi >= kCmoSky;
+    if (silhouette) return w.y < 0.5 ? (w.x < 0.5 ? d00 : d10) : (w.x < 0.5 ? d01 : d11);
     return mix(mix(d00, d10, w.x), mix(d01, d11, w.x), w.y);
 }
 
@@ -115,7 +123,7 @@ float cmoSmooth(CmoRecord c, float d00, float d10, float d01, float d11, vec2 w)
 // are a staircase, to confirm and place a crossing the staircase suggests.
 // The face is the caller's (f and its axes m, s, t): the refinement stays on the face it began
 // on (clamped at its edge), which keeps the dynamically indexed face tables out of its loop.
-float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
+float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q, out bool skyEdge) {
     ivec2 i0;
     vec2 w;
     cmoBilinear(c, m, s, t, q, i0, w);
@@ -126,7 +134,7 @@ float cmoDistanceSmooth(CmoRecord c, int f, vec3 m, vec3 s, vec3 t, vec3 q) {
     float d10 = texelFetch(cmoDistance, ivec3(b.x, a.y, layer), base).x;
     float d01 = texelFetch(cmoDistance, ivec3(a.x, b.y, layer), base).x;
     float d11 = texelFetch(cmoDistance, ivec3(b.x, b.y, layer), base).x;
-    return cmoSmooth(c, d00, d10, d01, d11, w);
+    return cmoSmooth(c, d00, d10, d01, d11, w, skyEdge);
 }
 
 // The 3x3 level-0 texels around one texel (clamped at the face's edges, as cmoDistanceSmooth
@@ -164,20 +172,31 @@ float cmoPick(vec3 v, int k) {
 
 // cmoDistanceSmooth's value from the window, for q inside (or within half a texel of) the
 // window's middle texel; further out the window's edge texels stand in (the clamp).
-float cmoDistanceWindow(CmoRecord c, CmoWindow win, vec3 m, vec3 s, vec3 t, vec3 q) {
+float cmoDistanceWindow(CmoRecord c, CmoWindow win, vec3 m, vec3 s, vec3 t, vec3 q, out bool skyEdge) {
     ivec2 i0;
     vec2 w;
     cmoBilinear(c, m, s, t, q, i0, w);
     ivec2 a = clamp(i0 - win.first, ivec2(0), ivec2(2)), b = clamp(i0 + 1 - win.first, ivec2(0), ivec2(2));
     vec3 ra = a.y <= 0 ? win.row0 : (a.y == 1 ? win.row1 : win.row2);
     vec3 rb = b.y <= 0 ? win.row0 : (b.y == 1 ? win.row1 : win.row2);
-    return cmoSmooth(c, cmoPick(ra, a.x), cmoPick(ra, b.x), cmoPick(rb, a.x), cmoPick(rb, b.x), w);
+    return cmoSmooth(c, cmoPick(ra, a.x), cmoPick(ra, b.x), cmoPick(rb, a.x), cmoPick(rb, b.x), w, skyEdge);
 }
 
 // The refinement step: a crossing the staircase suggests between lo (in front) and hi, on the
 // smooth surface. Returns its t (bisection), -1 when the smooth surface has the ray still in
 // front at hi (a staircase step, not a crossing: go on), or -2 when the smooth crossing lies
-// deeper than the tolerance behind (a silhouette the ray passed behind).
+// deeper than the tolerance behind (a silhouette the ray passed behind), or at the edge of an
+// opening (see below).
+// The edge of an opening: the ray reached the surface from where the CMO saw the sky (lo's
+// texel is sky, or the ray entered lo's texel already behind from a sky texel), or the crossing
+// lies in a cell that straddles the sky (cmoSmooth's skyEdge). A wall's end has nothing behind
+// it, and the nearest texel puts that end anywhere within half a texel: a ray that leaves a
+// room through its open side past the wall's end read as a hit on the wall (cornell_mirrors'
+// concave mirror showed the red wall in 130 rim pixels with one CMO where the open side's grey
+// is; the view lost 0.65 dB to that CMO, 0.15 with this rule). Unresolved, the ray goes down the
+// chain. A silhouette against another surface keeps the tolerance: behind an object's limb its
+// unseen side goes on (the knot's tube, the blob's lobes), and refusing those hits cost
+// sphere_close and blob_close 0.4-0.5 dB (MEASUREMENTS.md, 2026-12-07).
 // Five halvings (1/32 of the bracket) and the smooth distance kept from the step that last set
 // hi: six evaluations where seven halvings and a separate final evaluation took nine. Regula
 // falsi (Illinois) with three steps was tried too and lost 0.06-0.19 dB on four views: across a
@@ -199,21 +218,29 @@ float cmoRefine(CmoRecord c, vec3 o, vec3 r, float lo, float hi, float thickness
         cmoBilinear(c, fm, fs, ft, o + r * (0.5 * (lo + hi)), i0, w);
         win = cmoWindowAround(c, f, clamp(i0 + ivec2(greaterThanEqual(w, vec2(0.5))), ivec2(0), ivec2(int(c.center.w) - 1)));
     }
-    float dHi = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, h) : cmoDistanceSmooth(c, f, fm, fs, ft, h);
+    bool edgeHi, edge;
+    float dHi = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, h, edgeHi) : cmoDistanceSmooth(c, f, fm, fs, ft, h, edgeHi);
     float lenHi = length(h);
     if (lenHi <= dHi) return -1.0;
+    vec3 ql = o + r * lo;
+    float dLo = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, ql, edge) : cmoDistanceSmooth(c, f, fm, fs, ft, ql, edge);
+    float dBefore = cmoDistanceAt(c, cmoTexel(c, o + r * (lo - 1e-4 * (1.0 + lo))));
+    bool opening = length(ql) > dLo && dBefore >= kCmoSky;
     for (int k = 0; k < 5; ++k) {
         float mid = 0.5 * (lo + hi);
         vec3 q = o + r * mid;
-        float d = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, q) : cmoDistanceSmooth(c, f, fm, fs, ft, q);
+        float d = inTexel ? cmoDistanceWindow(c, win, fm, fs, ft, q, edge) : cmoDistanceSmooth(c, f, fm, fs, ft, q, edge);
         float len = length(q);
         bool behind = len > d;
         hi = behind ? mid : hi;
         dHi = behind ? d : dHi;
         lenHi = behind ? len : lenHi;
+        edgeHi = behind ? edge : edgeHi;
         lo = behind ? lo : mid;
+        dLo = behind ? dLo : d;
     }
-    return lenHi - dHi <= cmoTolerance(c, dHi, thickness) ? hi : -2.0;
+    opening = opening || dLo >= kCmoSky || edgeHi;
+    return !opening && lenHi - dHi <= cmoTolerance(c, dHi, thickness) ? hi : -2.0;
 }
 
 // Where a ray that starts on a surface the CMO captured leaves that surface. The CMO knows the
