@@ -176,14 +176,16 @@ def never_hurts(tools, rule, out, cache):
 def never_hurts_room(tools, rule, out, cache):
     ok = True
     scene = rule["scene"]
+    bare = str(with_cmos(scene, [], out / "none"))  # the scene without its own CMOs
+    edited = {label: str(with_cmos(scene, [pos], out / label)) for label, pos in rule["positions"].items()}
     for cam in rule["views"]:
         ref_dir, exposure = reference(tools, {"scene": scene, "camera": cam}, rule["size"], rule["reference"], cache)
-        view = {"scene": scene, "camera": cam, "file": str(with_cmos(scene, [], out / "none"))}
+        view = {"scene": scene, "camera": cam, "file": bare}
         image, _ = run(tools, view, rule["size"], [], out, f"never_hurts.{scene}.{cam}.none")
         base = bench.score(tools, image, ref_dir, "reflection", exposure, out / f"never_hurts.{scene}.{cam}.none.png")
         for label, pos in rule["positions"].items():
-            edited = {"scene": scene, "camera": cam, "file": str(with_cmos(scene, [pos], out / label))}
-            image, _ = run(tools, edited, rule["size"], [], out, f"never_hurts.{scene}.{cam}.{label}")
+            one = {"scene": scene, "camera": cam, "file": edited[label]}
+            image, _ = run(tools, one, rule["size"], [], out, f"never_hurts.{scene}.{cam}.{label}")
             got = bench.score(tools, image, ref_dir, "reflection", exposure, out / f"never_hurts.{scene}.{cam}.{label}.png")
             loss = base["mirror_psnr_db"] - got["mirror_psnr_db"]
             good = loss <= rule["max_loss_db"]
