@@ -104,6 +104,8 @@ struct Reflections::Impl {
     std::map<uint32_t, gpu::Pipeline> reprojects;
     std::map<uint32_t, gpu::Pipeline> lookupFulls;  // by tile mode and list
     const gpu::Pipeline& lookupFull(uint32_t tileMode, uint32_t list);
+    std::map<uint32_t, gpu::Pipeline> hitReuses;  // by tile mode, CMOs, CMO tracer and list
+    const gpu::Pipeline& hitReuse(uint32_t tileMode, bool cmos, bool linear, uint32_t list);
     const gpu::Pipeline& reproject(uint32_t tileMode, bool half, uint32_t list);
     gpu::Unique<VkSampler> nearest;
     gpu::Unique<VkSampler> trilinear;
@@ -185,6 +187,12 @@ struct Reflections::Impl {
     TextureHandle addLookupFull(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                                 const ReflectionSettings& s, TextureHandle hiz, TextureHandle halfMethod,
                                 TextureHandle upsampled);
+    // reflections.hit_reuse (half resolution): the mirror pixels their 2x2 did not trace take
+    // their own screen-space hit, found from the neighbours' hits, over `upsampled`
+    // (hit_reuse.comp). Returns the new version.
+    TextureHandle addHitReuse(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                              const ReflectionSettings& s, const ReflectionOutputs& out, TextureHandle halfMethod,
+                              TextureHandle halfReflection, TextureHandle upsampled);
     // The fallback chain past screen space, as the passes that evaluate it (resolve, lookup_full)
     // read it: the local probes, the planar probes and their grounds, and (bindChain) the sky.
     struct ChainReads {

@@ -577,6 +577,75 @@ TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionIn
     return d.dst;
 }
 
+// reflections.hit_reuse (hit_reuse.glsl): over the upsampled reflection, on the reflective tiles'
+// footprints, else over the whole screen.
+TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                             const ReflectionSettings& s, const ReflectionOutputs& out,
+                                             TextureHandle halfMethod, TextureHandle halfReflection,
+                                             TextureHandle upsampled) {
+    // With CMOs traced, their hits too (hit_reuse_cmo.comp).
+    const bool cmos = out.cmo.valid();
+    const probes::CmoSet& set = in.probes.cmos;
+    struct Data {
+        TextureHandle hiz, normal, emissive, hit, color, guide, method, half, dst, cmo, info, distance, radiance, attr,
+            albedo;
+        BufferHandle tiles, footprint, records;
+    };
+    const auto& d = g.addPass<Data>(
+        "reflections.hit_reuse", PassType::Compute,
+        [&](PassBuilder& b, Data& data) {
+            data.hiz = b.read(out.hiz, TextureUsage::Sampled);
+            data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
+            data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
+            data.hit = b.read(out.hit, TextureUsage::Sampled);
+            data.color = b.read(out.colorPyramid, TextureUsage::Sampled);
+            data.guide = b.read(tiles.guide, TextureUsage::Sampled);
+            data.method = b.read(halfMethod, TextureUsage::Sampled);
+            data.half = b.read(halfReflection, TextureUsage::Sampled);
+            data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
+            if (s.tiles) data.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
+            if (cmos) {
+                data.cmo = b.read(out.cmo, TextureUsage::Sampled);
+                data.info = b.read(out.cmoInfo, TextureUsage::Sampled);
+                data.records = b.read(set.records, BufferUsage::StorageRead);
+                data.distance = b.read(set.distance, TextureUsage::Sampled);
+                data.radiance = b.read(set.radiance, TextureUsage::Sampled);
+                data.attr = b.read(set.attr, TextureUsage::Sampled);
+                data.albedo = b.read(set.albedo, TextureUsage::Sampled);
+            }
+            data.dst = b.write(upsampled, TextureUsage::StorageWrite);
+        },
+        [this, tiled = s.tiles, cmos, linear = s.cmoTrace == CmoTraceMode::Linear](const Data& data, PassContext& pc) {
+            gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            w.sampled("hitTex", pc.view(data.hit), nearest)
+                .sampled("colorPyramid", pc.view(data.color), trilinear)
+                .sampled("guideTex", pc.view(data.guide), nearest)
+                .sampled("methodTex", pc.view(data.method), nearest)
+                .sampled("halfTex", pc.view(data.half), nearest)
+                .sampled("envSpecular", renderer.environment().specular().view(), renderer.environment().sampler())
+                .storage("reflectionOut", pc.view(data.dst))
+                .buffer("tiles", pc.buffer(data.tiles));
+            if (cmos)
+                w.sampled("cmoTex", pc.view(data.cmo), nearest)
+                    .sampled("cmoInfoTex", pc.view(data.info), nearest)
+                    .buffer("CmoBuffer", pc.buffer(data.records))
+                    .sampled("cmoDistance", pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                    .sampled("cmoLayers", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                    .sampled("cmoAttr", pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                    .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+                    .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
+            using namespace shader;
+            // Every reflective tile's footprint: a pixel the sky or a CMO answered may lie in a
+            // tile without a screen-space ray.
+            dispatchTiles(pc, w, data.tiles, tiled,
+                          {{&hitReuse(tiled ? kTileModeWork : kTileModeScreen, cmos, linear, kListResolveRay),
+                            kListResolveRay},
+                           {&hitReuse(kTileModeWork, cmos, linear, kListLookup), kListLookup}},
+                          pc.extent(data.dst), data.footprint);
+        });
+    return d.dst;
+}
+
 TextureHandle Reflections::Impl::addComposite(FrameGraph& g, const ReflectionInputs& in, const ReflectionOutputs& out,
                                               const Classified& tiles, const ReflectionSettings& s, TextureHandle raw) {
     const DebugView view = s.debugView;

@@ -355,6 +355,25 @@ const gpu::Pipeline& Reflections::Impl::lookupFull(uint32_t tileMode, uint32_t l
     return it->second;
 }
 
+const gpu::Pipeline& Reflections::Impl::hitReuse(uint32_t tileMode, bool cmos, bool linear, uint32_t list) {
+    const uint32_t key = ((tileMode * 2 + (cmos ? 1 : 0)) * 2 + (linear ? 1 : 0)) * shader::kTileLists + list;
+    auto it = hitReuses.find(key);
+    if (it == hitReuses.end()) {
+        // The CMO variant shades hits as the CMO trace does: the scene's lights (ids 0-287).
+        std::vector<uint32_t> constants = cmos ? renderer.lightingConstants() : std::vector<uint32_t>{};
+        constants.resize(304, 0u);
+        constants[301] = linear ? 1u : 0u;
+        constants[302] = 2u;  // the footprint's scale
+        constants[303] = list;
+        it = hitReuses
+                 .emplace(key, gpu::createComputePipeline(
+                                   ctx, cmos ? "reflections/hit_reuse_cmo.comp" : "reflections/hit_reuse.comp", 0,
+                                   "reflections.hit_reuse", withTileMode(std::move(constants), tileMode)))
+                 .first;
+    }
+    return it->second;
+}
+
 const gpu::Pipeline& Reflections::Impl::composite(const CompositeVariant& v, uint32_t list) {
     const uint32_t key =
         ((uint32_t(v.view) * 8 + (v.temporal ? 4 : 0) + (v.tiled ? 2 : 0) + (v.half ? 1 : 0)) * shader::kTileLists) + list;
@@ -412,6 +431,8 @@ ReflectionOutputs Reflections::addPasses(FrameGraph& graph, const ReflectionInpu
                                  : m.upsampler.addPass(graph, up, "reflections.upsample", "reflections.reflection");
         if (!quarter && s.fullResLookups)
             out.reflection = m.addLookupFull(graph, in, tiles, s, out.hiz, out.method, out.reflection);
+        if (!quarter && s.hitReuse && s.screenSpace)
+            out.reflection = m.addHitReuse(graph, in, tiles, s, out, out.method, halfReflection, out.reflection);
         // Culled unless the method AOV or a debug view reads it.
         up.low = out.method;
         out.method = m.upsampler.addPass(graph, up, "reflections.upsample_method", "reflections.method");

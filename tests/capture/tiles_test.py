@@ -4,7 +4,7 @@ reflections.tiles on (reflections.classify's tile lists, indirect dispatch, fill
 tiles that need nothing) and off (every per-pixel pass over the whole screen) must give the same
 values in every AOV the module writes, with no NaN, at the stripes test's five odd sizes (tile
 edges fall mid-tile on the right and bottom) and in every mode the lists treat differently: full
-and half resolution (half also with reflections.full_res_lookups), cone and stochastic glossy,
+and half resolution (half also with reflections.full_res_lookups and with reflections.hit_reuse), cone and stochastic glossy,
 CMOs, planar probes (the gallery's floor),
 temporal accumulation over several frames, screen space off (lookup tiles only). Every scene here
 has CMOs (the cmo AOV needs them).
@@ -39,6 +39,8 @@ CASES = [
     ("gallery", "floor_grazing", 1, ["reflections.screen_space=false"]),
     # reflections.lookup_full over the reflective footprints against the whole screen.
     ("gallery", "main", 1, ["reflections.resolution=half", "reflections.full_res_lookups=true"]),
+    # reflections.hit_reuse (screen space, the sky and the CMOs) over the reflective footprints.
+    ("cornell_mirrors", "main", 1, ["reflections.resolution=half", "reflections.hit_reuse=true"]),
 ]
 
 

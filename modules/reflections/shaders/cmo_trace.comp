@@ -31,10 +31,11 @@ layout(set = 0, binding = 2) uniform sampler2D normalTex;
 layout(set = 0, binding = 3) uniform sampler2D emissiveTex;
 layout(set = 0, binding = 5) uniform sampler2D hitTex;       // the screen-space trace's
 layout(set = 0, binding = 6) uniform sampler2D guideTex;     // half: guidePixel()
-layout(set = 0, binding = 12) uniform samplerCubeArray cmoRadiance;  // trilinear: glossy footprints
 layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D cmoOut;
 layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D infoOut;
 #include "reflections/shaders/mirror_hit.glsl"
+#define CMO_RADIANCE_BINDING 12
+#include "reflections/shaders/cmo_shade.glsl"  // shadeHit
 
 // Ids above the scene lights' (0-287, scene_lights.glsl).
 layout(constant_id = 300) const uint kHalf = 0u;    // reflections.resolution=half
@@ -43,44 +44,6 @@ layout(constant_id = 301) const uint kLinear = 0u;  // reflections.cmo_trace=lin
 // listed by reflections.classify where no pixel traces a screen-space ray and by reflections.trace
 // where one does) traces, the fill list writes "nothing found".
 #include "reflections/shaders/tiles.glsl"
-
-// The hit's radiance toward the viewer of the reflection: what the CMO captured (lit for the
-// CMO's own direction), with the lights' direct terms moved to the reflected ray's direction
-// (relight.glsl). Glossy rays read
-// the radiance mips at the cone's footprint `cone` (world width at the hit). `mirror`: the hit
-// reflects again (main's self-reflection loop) where its material is mirror-masked, or where it
-// is a reflective metal smoother than reflections.hit_reflect_max_roughness. A metal's radiance
-// is all reflection, so what the CMO captured of it (its reflection toward the CMO's centre) says
-// nothing about the ray's direction: screen space's mirror hits had the same error (resolve.comp,
-// mirrorHit). A dielectric's radiance is mostly its own diffuse light, which the capture holds
-// and a ray reflected again would drop, so it keeps the captured value. Treating cornell_mirrors'
-// unmasked chrome this way scored sphere_close 18.04 -> 18.70 dB and blob_close 19.05 -> 20.25
-// in the mirror band (MEASUREMENTS.md, issue 24, 2026-12-06).
-vec3 shadeHit(CmoRecord c, vec3 hp, vec3 dir, float cone, out bool mirror, out vec3 n, out vec3 f0) {
-    vec3 u = hp - c.center.xyz;
-    ivec3 texel = cmoTexel(c, u);
-    ivec3 at = ivec3(texel.xy, int(c.params.x) + texel.z);
-    int base = int(c.params.y);
-    vec4 lit = texelFetch(cmoLayers, at, base);
-    vec4 nr = texelFetch(cmoAttr, at, base);
-    vec4 albedo = texelFetch(cmoAlbedo, at, base);
-    float sun;
-    bool masked, reflective;
-    cmoUnpackFlags(lit.a, sun, masked, reflective);
-    mirror = masked || (reflective && albedo.a >= 0.5 && nr.w < rf.hitReflectMaxRoughness);
-    n = normalize(nr.xyz);
-    f0 = specularF0(albedo.rgb, albedo.a);
-    vec3 delta = movedDirect(hp, n, -dir, normalize(-u), albedo.rgb, albedo.a, nr.w, sun);
-    // Filtered at the refined hit's direction, a mirror's too (mip 0 is bilinear): the hit's
-    // place is continuous (cmoRefine), and the texel it falls in (nearest) put an edge of the room
-    // a texel off: mirror_floor's floor reflected the ceiling where the wall's top 3 mm lay
-    // (issue 24, "sub-pixel registration"; MEASUREMENTS.md).
-    float texelWorld = length(u) * c.params.w;
-    float mip = log2(max(cone / max(texelWorld, 1e-6), 1.0));
-    float top = float(base) + c.params.z - 1.0;
-    vec3 captured = textureLod(cmoRadiance, vec4(u, c.params.x / 6.0), min(float(base) + mip, top)).rgb;
-    return max(captured + delta, vec3(0.0));
-}
 
 void main() {
     // With tiles, the tiles without CMO work keep reflections.cmo_clear's 0 in both outputs.
@@ -108,52 +71,21 @@ void main() {
     bool second = !first && secondBounceInCmos(covered, vec2(pixel) + 0.5, hit, p, m.roughness, true, h);
     if (first || second) {
         int iterations = 0;
-        int maxIterations = int(rf.cmoMaxIterations);
-        int maxBounces = int(rf.cmoBounces);
         float coneSlope = 2.0 * coneTan(second ? max(m.roughness, h.m.roughness) : m.roughness);
-        vec3 throughput = vec3(1.0);
-        vec3 fallback = vec3(0.0);  // a mirror's own captured radiance, if its next ray is not found
         vec3 origin = second ? h.position : p, normal = second ? h.n : n, dir = second ? reflect(h.d, h.n) : r;
         float travelled = second ? distance(p, h.position) : 0.0;
-        for (int bounce = 0; bounce <= maxBounces; ++bounce) {
-            int found = -1;
-            float tHit = 0.0;
-            bool unresolved = false;
-            // Every CMO in order; with reflections.cmo_unresolved=pass_behind, if all left the ray
-            // unresolved, the first once more with the ray taken to pass behind what hid it
-            // (cmo.glsl, passBehind): a thin pillar hides a strip of wall from a CMO, and the
-            // local probes would paint the pillar there again.
-            for (uint k = 0u; k <= rf.cmoCount && found < 0; ++k) {
-                bool last = k == rf.cmoCount;
-                if (last && !(unresolved && rf.cmoPassBehind != 0u)) break;
-                uint i = last ? 0u : k;
-                CmoRecord c = cmos[i];
-                vec3 o = origin - c.center.xyz;
-                float th;
-                int status = kLinear != 0u
-                                 ? cmoTraceLinear(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoLinearStep, rf.cmoThickness,
-                                                  maxIterations, last, iterations, th)
-                                 : cmoTraceHierarchical(c, o, dir, normal, rf.cmoMaxDistance, rf.cmoThickness,
-                                                        maxIterations, last, iterations, th);
-                if (status == kCmoHit) {
-                    found = int(i);
-                    tHit = th;
-                }
-                unresolved = unresolved || status == kCmoUnresolved;
-            }
-            if (found < 0) {
-                if (bounce == 0 && !second) info.z = unresolved ? 2.0 : 0.0;
-                else result = vec4(fallback, result.a);
-                break;
-            }
+        float tHit;
+        bool unresolved;
+        int found = cmoFirstHit(origin, normal, dir, kLinear != 0u, iterations, tHit, unresolved);
+        if (found < 0) {
+            if (!second) info.z = unresolved ? 2.0 : 0.0;
+        } else {
             CmoRecord c = cmos[found];
             vec3 hp = origin + dir * tHit;
             travelled += tHit;
-            if (bounce == 0) {
-                result.a = second ? -1.0 : max(tHit, 1e-3);
-                info.y = second ? 0.0 : float(found + 1);
-                info.z = second ? 0.0 : 1.0;
-            }
+            result.a = second ? -1.0 : max(tHit, 1e-3);
+            info.y = second ? 0.0 : float(found + 1);
+            info.z = second ? 0.0 : 1.0;
             bool mirror;
             vec3 hn, f0;
             vec3 shaded = shadeHit(c, hp, dir, coneSlope * travelled, mirror, hn, f0);
@@ -163,27 +95,15 @@ void main() {
             // hit is unresolved and goes down the chain (issue 24, "CMOs that never hurt": it
             // cost mirror_floor 0.36 dB along every seam against the room's exact box probe).
             if (dot(hn, dir) > 0.05) {
-                if (bounce == 0) {
-                    result.a = 0.0;
-                    info.y = 0.0;
-                    info.z = second ? 0.0 : 2.0;
-                } else {
-                    result = vec4(fallback, result.a);
-                }
-                break;
+                result.a = 0.0;
+                info.y = 0.0;
+                info.z = second ? 0.0 : 2.0;
+            } else if (mirror && int(rf.cmoBounces) > 0) {
+                result.rgb = cmoSelfReflections(hp, hn, f0, dir, shaded, travelled, coneSlope, kLinear != 0u,
+                                                iterations, info.w);
+            } else {
+                result.rgb = shaded;
             }
-            if (mirror && bounce < maxBounces) {
-                // Self-reflection: the mirror reflects again, weighed by its Fresnel term.
-                fallback = throughput * shaded;
-                throughput *= F_Schlick(f0, max(dot(hn, -dir), 0.0));
-                origin = hp;
-                normal = hn;
-                dir = reflect(dir, hn);
-                info.w = float(bounce + 1);
-                continue;
-            }
-            result.rgb = throughput * shaded;
-            break;
         }
         info.x = float(iterations);
         if (!finite3(result.rgb)) result = vec4(0.0);

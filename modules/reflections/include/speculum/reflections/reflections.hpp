@@ -81,6 +81,7 @@ struct ReflectionSettings {
     bool cmoPassBehind;  // reflections.cmo_unresolved=pass_behind
     Resolution resolution;
     bool fullResLookups;  // half resolution: lookups at full resolution (reflections.lookup_full)
+    bool hitReuse;  // half resolution: mirror pixels find their own hit from the neighbours' (reflections.hit_reuse)
     bool tiles;  // reflections.classify's tile lists drive trace, cmo_trace and resolve
     RayBudget rayBudget;  // quarter: traces on the half-size grid whatever `resolution` says
     GlossyMode glossy;
