@@ -162,7 +162,11 @@ struct Reflections::Impl {
         BufferHandle footprint;
     };
     Classified addClassify(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, const ReflectionSettings& s);
-    BufferHandle addFootprintArgs(FrameGraph& g, BufferHandle classified);
+    // The lists a footprint buffer has a dispatch for, in its slots' order (kListCmo's only in the
+    // buffer made after the trace, `cmoList`: reflections.hit_reuse's CMO variant).
+    static constexpr std::array<uint32_t, 3> kFootprintLists{shader::kListResolveRay, shader::kListLookup,
+                                                             shader::kListCmo};
+    BufferHandle addFootprintArgs(FrameGraph& g, BufferHandle classified, bool cmoList = false);
     // reflections.trace: the hit image, at the trace's size (half-size at half resolution).
     // It appends its tiles to the CMO trace's lists (tiles.tiles is the new version).
     TextureHandle addTrace(FrameGraph& g, const ReflectionInputs& in, TextureHandle hiz, Classified& tiles,
@@ -193,6 +197,10 @@ struct Reflections::Impl {
     TextureHandle addHitReuse(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                               const ReflectionSettings& s, const ReflectionOutputs& out, TextureHandle halfMethod,
                               TextureHandle halfReflection, TextureHandle upsampled);
+    // One of its passes: the CMO variant or the other, on `footprint`'s lists (none: the screen).
+    TextureHandle addHitReusePass(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                  const ReflectionOutputs& out, TextureHandle halfMethod, TextureHandle halfReflection,
+                                  TextureHandle upsampled, bool cmos, bool linear, BufferHandle footprint);
     // The fallback chain past screen space, as the passes that evaluate it (resolve, lookup_full)
     // read it: the local probes, the planar probes and their grounds, and (bindChain) the sky.
     struct ChainReads {

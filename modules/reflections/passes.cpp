@@ -317,24 +317,27 @@ Reflections::Impl::Classified Reflections::Impl::addClassify(FrameGraph& g, cons
 // composite at half from 16.8 to 11.6 ms on closed_room.main, MEASUREMENTS.md issue 23). The
 // lists' counts are copied from classify's headers; y, z and the padding are written around
 // them, so the two writes never overlap.
-BufferHandle Reflections::Impl::addFootprintArgs(FrameGraph& g, BufferHandle classified) {
+BufferHandle Reflections::Impl::addFootprintArgs(FrameGraph& g, BufferHandle classified, bool cmoList) {
     struct Data {
         BufferHandle tiles, args;
     };
+    // Slots in kFootprintLists' order; the CMO list's own buffer (after reflections.trace, which
+    // appends to that list) fills its slot alone.
     const auto& d = g.addPass<Data>(
-        "reflections.footprint_args", PassType::Transfer,
+        cmoList ? "reflections.footprint_cmo_args" : "reflections.footprint_args", PassType::Transfer,
         [&](PassBuilder& b, Data& data) {
             data.tiles = b.read(classified, BufferUsage::TransferSrc);
-            data.args = b.write(b.create("reflections.footprint", BufferDesc{2 * sizeof(glm::uvec4)}),
+            data.args = b.write(b.create(cmoList ? "reflections.footprint_cmo" : "reflections.footprint",
+                                         BufferDesc{kFootprintLists.size() * sizeof(glm::uvec4)}),
                                 BufferUsage::TransferDst);
         },
-        [](const Data& data, PassContext& pc) {
+        [cmoList](const Data& data, PassContext& pc) {
             const uint32_t rest[3] = {4u, 1u, 0u};  // y: the four 8x8 blocks of a footprint
-            const uint32_t lists[2] = {shader::kListResolveRay, shader::kListLookup};
-            for (uint32_t slot = 0; slot < 2; ++slot) {
+            for (uint32_t slot = 0; slot < kFootprintLists.size(); ++slot) {
+                if ((kFootprintLists[slot] == shader::kListCmo) != cmoList) continue;
                 const VkDeviceSize at = slot * sizeof(glm::uvec4);
                 vkCmdUpdateBuffer(pc.cmd(), pc.buffer(data.args), at + sizeof(uint32_t), sizeof rest, rest);
-                VkBufferCopy count{lists[slot] * sizeof(glm::uvec4), at, sizeof(uint32_t)};
+                VkBufferCopy count{kFootprintLists[slot] * sizeof(glm::uvec4), at, sizeof(uint32_t)};
                 vkCmdCopyBuffer(pc.cmd(), pc.buffer(data.tiles), pc.buffer(data.args), 1, &count);
             }
         });
@@ -577,14 +580,31 @@ TextureHandle Reflections::Impl::addLookupFull(FrameGraph& g, const ReflectionIn
     return d.dst;
 }
 
-// reflections.hit_reuse (hit_reuse.glsl): over the upsampled reflection, on the reflective tiles'
-// footprints, else over the whole screen.
+// reflections.hit_reuse (hit_reuse.glsl): over the upsampled reflection, screen space's and the
+// sky's hits on the reflective tiles' footprints; with CMOs traced, then
+// reflections.hit_reuse_cmo, the CMOs' too, on the CMO tiles' footprints only (a pixel takes a CMO
+// hit only where its own 2x2's sample was a CMO's, whose tile is on that list). Lavapipe pays a
+// pass's whole code on every pixel it is dispatched on, and the CMO variant is four times the
+// other's (MEASUREMENTS.md, issue 23, "hit reuse"). Without tiles, the CMO variant over the whole
+// screen alone: the same values.
 TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
                                              const ReflectionSettings& s, const ReflectionOutputs& out,
                                              TextureHandle halfMethod, TextureHandle halfReflection,
                                              TextureHandle upsampled) {
-    // With CMOs traced, their hits too (hit_reuse_cmo.comp).
     const bool cmos = out.cmo.valid();
+    const bool linear = s.cmoTrace == CmoTraceMode::Linear;
+    if (!s.tiles) return addHitReusePass(g, in, tiles, out, halfMethod, halfReflection, upsampled, cmos, linear, {});
+    TextureHandle reused =
+        addHitReusePass(g, in, tiles, out, halfMethod, halfReflection, upsampled, false, linear, tiles.footprint);
+    if (!cmos) return reused;
+    const BufferHandle cmoFootprint = addFootprintArgs(g, tiles.tiles, true);
+    return addHitReusePass(g, in, tiles, out, halfMethod, halfReflection, reused, true, linear, cmoFootprint);
+}
+
+TextureHandle Reflections::Impl::addHitReusePass(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
+                                                 const ReflectionOutputs& out, TextureHandle halfMethod,
+                                                 TextureHandle halfReflection, TextureHandle upsampled, bool cmos,
+                                                 bool linear, BufferHandle footprint) {
     const probes::CmoSet& set = in.probes.cmos;
     struct Data {
         TextureHandle hiz, normal, emissive, hit, color, guide, method, half, dst, cmo, info, distance, radiance, attr,
@@ -592,7 +612,7 @@ TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInpu
         BufferHandle tiles, footprint, records;
     };
     const auto& d = g.addPass<Data>(
-        "reflections.hit_reuse", PassType::Compute,
+        cmos ? "reflections.hit_reuse_cmo" : "reflections.hit_reuse", PassType::Compute,
         [&](PassBuilder& b, Data& data) {
             data.hiz = b.read(out.hiz, TextureUsage::Sampled);
             data.normal = b.read(in.gbuffer.normal, TextureUsage::Sampled);
@@ -603,7 +623,7 @@ TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInpu
             data.method = b.read(halfMethod, TextureUsage::Sampled);
             data.half = b.read(halfReflection, TextureUsage::Sampled);
             data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
-            if (s.tiles) data.footprint = b.read(tiles.footprint, BufferUsage::Indirect);
+            if (footprint.valid()) data.footprint = b.read(footprint, BufferUsage::Indirect);
             if (cmos) {
                 data.cmo = b.read(out.cmo, TextureUsage::Sampled);
                 data.info = b.read(out.cmoInfo, TextureUsage::Sampled);
@@ -615,7 +635,7 @@ TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInpu
             }
             data.dst = b.write(upsampled, TextureUsage::StorageWrite);
         },
-        [this, tiled = s.tiles, cmos, linear = s.cmoTrace == CmoTraceMode::Linear](const Data& data, PassContext& pc) {
+        [this, cmos, linear](const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
             w.sampled("hitTex", pc.view(data.hit), nearest)
                 .sampled("colorPyramid", pc.view(data.color), trilinear)
@@ -635,13 +655,18 @@ TextureHandle Reflections::Impl::addHitReuse(FrameGraph& g, const ReflectionInpu
                     .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
                     .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
             using namespace shader;
-            // Every reflective tile's footprint: a pixel the sky or a CMO answered may lie in a
-            // tile without a screen-space ray.
-            dispatchTiles(pc, w, data.tiles, tiled,
-                          {{&hitReuse(tiled ? kTileModeWork : kTileModeScreen, cmos, linear, kListResolveRay),
-                            kListResolveRay},
-                           {&hitReuse(kTileModeWork, cmos, linear, kListLookup), kListLookup}},
-                          pc.extent(data.dst), data.footprint);
+            const bool tiled = data.footprint.valid();
+            if (!tiled)
+                dispatchTiles(pc, w, data.tiles, false, {{&hitReuse(kTileModeScreen, cmos, linear, 0), 0}},
+                              pc.extent(data.dst));
+            else if (cmos)
+                dispatchTiles(pc, w, data.tiles, true, {{&hitReuse(kTileModeWork, true, linear, kListCmo), kListCmo}},
+                              pc.extent(data.dst), data.footprint);
+            else  // a pixel the sky answered may lie in a tile without a screen-space ray
+                dispatchTiles(pc, w, data.tiles, true,
+                              {{&hitReuse(kTileModeWork, false, linear, kListResolveRay), kListResolveRay},
+                               {&hitReuse(kTileModeWork, false, linear, kListLookup), kListLookup}},
+                              pc.extent(data.dst), data.footprint);
         });
     return d.dst;
 }

@@ -324,8 +324,9 @@ void Reflections::Impl::dispatchTiles(PassContext& pc, const gpu::DescriptorWrit
             return;
         }
         if (footprint.valid()) {
-            // The footprint's dispatches: kListResolveRay's first, kListLookup's second.
-            const VkDeviceSize slot = run.list == shader::kListResolveRay ? 0 : 1;
+            // The footprint's dispatches, in kFootprintLists' order.
+            const VkDeviceSize slot =
+                std::find(kFootprintLists.begin(), kFootprintLists.end(), run.list) - kFootprintLists.begin();
             vkCmdDispatchIndirect(pc.cmd(), pc.buffer(footprint), slot * sizeof(glm::uvec4));
             continue;
         }

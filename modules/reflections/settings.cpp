@@ -108,16 +108,16 @@ const SettingFields<ReflectionSettings>& ReflectionSettings::fields() {
          "planar probe, local probes and sky at their own full-resolution position instead of "
          "the upsampled value: sharper curved mirrors (+0.2 to +1.8 dB in the mirror band) for "
          "one more full-size pass (38 ms at 960x540 on lavapipe, twice the upsampling)."}),
-        // Off by default for lavapipe's sake: it runs every branch for every pixel, so the pass
-        // costs all of its code wherever it is dispatched (with CMOs 67-74 ms on gallery.main and
-        // cornell_mirrors.main at 960x540, half of half resolution's module; 13 without them,
-        // against 20 for the upsampling); a GPU skips the branches a pixel does not take
-        // (MEASUREMENTS.md, issue 23, "hit reuse").
+        // Off by default for lavapipe's sake: it runs every branch for every pixel, so the passes
+        // cost all of their code wherever they are dispatched (35-45 ms on gallery.main and
+        // cornell_mirrors.main at 960x540, about the upsampling twice; `low` would cost 0.68-1.1x
+        // the default with it); a GPU skips the branches a pixel does not take (MEASUREMENTS.md,
+        // issue 23, "hit reuse").
         bind<&R::hitReuse>({"reflections.hit_reuse", T::Bool, "", 0, 1, 0, {},
          "Half resolution: a mirror pixel its 2x2 did not trace takes its own hit, found from its "
          "neighbours' (screen space, the CMOs, the sky) where its own ray meets the surfaces they "
          "hit, instead of the upsampled value: sharper curved mirrors (+0.9 to +1.1 dB in the mirror "
-         "band) for one more full-size pass (30-75 ms at 960x540 on lavapipe with CMOs, 13 without)."}),
+         "band) for one or two more full-size passes (18-45 ms at 960x540 on lavapipe)."}),
         bind<&R::tiles>({"reflections.tiles", T::Bool, "", 0, 1, 1, {},
          "Classify 8x8 tiles by what their pixels need (a screen-space ray, the CMOs, a probe and sky "
          "lookup, nothing) and run the trace, the CMO trace and the resolve only where needed, by "

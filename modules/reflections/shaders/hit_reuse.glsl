@@ -1,6 +1,7 @@
 // reflections.hit_reuse: at half resolution, a mirror pixel that its 2x2 did not trace finds its
 // own hit from its neighbours' hits, over what reflections.upsample wrote. hit_reuse.comp is the
-// screen-space half alone, hit_reuse_cmo.comp (HIT_REUSE_CMOS) adds the CMOs' hits.
+// screen-space half alone, hit_reuse_cmo.comp (HIT_REUSE_CMOS, reflections.hit_reuse_cmo on the
+// CMO tiles after it) adds the CMOs' hits.
 //
 // Why: a mirror's reflection holds the reflected scene's full detail, and upsampling it from half
 // size blurs every reflected edge by a pixel or two: most of what half resolution loses in the
@@ -64,6 +65,8 @@ layout(set = 0, binding = 9, rgba16f) uniform writeonly image2D reflectionOut;  
 #include "reflections/shaders/tiles.glsl"
 layout(constant_id = 302) const uint kTileScale = 2u;
 layout(constant_id = 303) const uint kList = 0u;
+// The lookup tiles' variant has no screen-space term: none of their samples traced a ray.
+const bool kScreenCandidates = kTileMode == kTileModeScreen || kList != kListLookup;
 
 // As reflections.classify counts a mirror's ray (no cone loop in the resolve).
 const float kConeMinRoughness = 0.037;
@@ -177,7 +180,7 @@ void reusePixel(ivec2 pixel) {
     // (a planar probe's floor, the local probes' rough walls) there is no hit to reuse. Either
     // way the pixel leaves here, and on lavapipe a row of eight that all leave skips the rest.
     float lo = 1e30, hi = 0.0, sky = 1.0;
-    bool anyScreen = false, anyCmo = false;
+    bool ownScreen = false, ownCmo = false;
     for (int i = 0; i < 4; ++i) {
         ivec2 s = clamp(base + ivec2(i & 1, i >> 1), ivec2(0), lowSize - 1);
         float y = dot(texelFetch(halfTex, s, 0).rgb, vec3(0.2126, 0.7152, 0.0722));
@@ -185,10 +188,14 @@ void reusePixel(ivec2 pixel) {
         lo = min(lo, y);
         hi = max(hi, y);
         sky = min(sky, method.b);
-        anyScreen = anyScreen || method.r >= 0.999;
-        anyCmo = anyCmo || method.a >= 0.999;
+        // A screen-space or CMO hit only where a sample in the pixel's own tile took one: the
+        // tiled passes run on the lists its tile is on (a ray's, the CMOs'), and this keeps them
+        // equal to the whole screen's.
+        bool sameTile = all(equal(s / int(kTileSize), own / int(kTileSize)));
+        ownScreen = ownScreen || (sameTile && method.r >= 0.999);
+        ownCmo = ownCmo || (sameTile && method.a >= 0.999);
     }
-    if (hi - lo <= kSmooth * hi + 1e-4 || !(anyScreen || anyCmo || sky >= 0.999)) return;
+    if (hi - lo <= kSmooth * hi + 1e-4 || !(ownScreen || ownCmo || sky >= 0.999)) return;
     // Where the sky alone answered all four samples, it answers the pixel's own ray (one look-up:
     // a curved mirror's sky changes from pixel to pixel; cornell_mirrors.main's sphere and torus).
     if (sky >= 0.999) {
@@ -198,7 +205,7 @@ void reusePixel(ivec2 pixel) {
     }
     // Screen space takes the pixel whole only where resolve's fades are all 1 (chain.glsl's
     // screenCovers): the roughness fade is 1 up to maxScreenSpace - 0.1.
-    bool screen = anyScreen && m.screenSpace && m.roughness <= m.maxScreenSpace - 0.1 && rf.coverageMode == 0u &&
+    bool screen = kScreenCandidates && ownScreen && m.screenSpace && m.roughness <= m.maxScreenSpace - 0.1 && rf.coverageMode == 0u &&
                   cameraFade(dot(r, v)) >= 1.0;
     vec3 hit = screen ? screenCandidate(base, lowSize, p, r) : vec3(0.0);
     if (hit.z > 0.0) {
@@ -209,7 +216,7 @@ void reusePixel(ivec2 pixel) {
         return;
     }
 #ifdef HIT_REUSE_CMOS
-    if (!(anyCmo && m.traceCmos && m.roughness <= rf.cmoMaxRoughness)) return;
+    if (!(ownCmo && m.traceCmos && m.roughness <= rf.cmoMaxRoughness)) return;
     vec2 cmo = cmoCandidate(base, lowSize, p, r);
     if (cmo.y <= 0.0) return;
     bool mirror;
