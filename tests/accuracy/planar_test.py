@@ -214,16 +214,17 @@ def open_sky(tools, rule, out, cache):
     reflected sky (the oblique projection once flipped it to the environment's ground)."""
     d = out / "failure_cases"
     d.mkdir(parents=True, exist_ok=True)
-    without = bench.SOURCE / "assets" / "scenes" / "failure_cases.gltf"
+    # The scene ships with planar probes on its mirrors (tools/scenes/stages.py): without them is
+    # the scene with those probes taken off, with them the floor's probe of this rule alone.
+    shipped = bench.SOURCE / "assets" / "scenes" / "failure_cases.gltf"
+    without = Path(without_planar_probes(str(shipped), str(d)))
     doc = json.loads(without.read_text())
     doc["nodes"].append({"name": "planar.floor", "translation": rule["origin"],
                          "extensions": {"SPECULUM_reflection_probe": {"kind": "planar", "extents": rule["extents"]}}})
     doc["scenes"][doc.get("scene", 0)]["nodes"].append(len(doc["nodes"]) - 1)
-    # The placement tool's edit rewrites the buffers', images' and environment's references.
-    sys.path.insert(0, str(bench.SOURCE / "modules" / "probes" / "tools"))
-    from placement.edit import edited_document
+    # Already edited for its folder: the buffers', images' and environment's references hold.
     planar = d / "failure_cases.planar.gltf"
-    planar.write_text(json.dumps(edited_document(doc, [], str(without.parent), str(d.resolve())), indent=1))
+    planar.write_text(json.dumps(doc, indent=1))
     ok = True
     for cam in rule["views"]:
         ref_dir, _ = bench.render_reference(tools, {"scene": "failure_cases", "camera": cam}, rule["size"],

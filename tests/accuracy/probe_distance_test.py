@@ -7,7 +7,8 @@ thresholds.json "probe_distance"):
 Each view of the rule is captured with the default chain twice, with the probes' distance march
 (probes.distance_steps, its default) and without it (probes.distance_steps=0: the box or sphere
 proxy alone), and both are scored per band against the view's converged reference. The march must
-gain min_gain_db where the rule names a band (cornell_mirrors' rough walls: its chrome objects,
+gain min_gain_db where the rule names a band (measured without the scene's planar probes where
+it says without_planar) (cornell_mirrors' rough walls: its chrome objects,
 near the probe's capture point, fill much of the cube, and their reflections in it land where
 they are seen from), and must never cost a view's mirror band more than max_loss_db (it falls
 back to the proxy wherever it finds no surface).
@@ -20,6 +21,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "bench"))
 import speculum_bench as bench  # noqa: E402
 from accuracy_args import tool_parser  # noqa: E402
+sys.path.insert(0, str(HERE.parent / "capture"))
+from stripes_test import without_planar_probes  # noqa: E402
 
 
 def main():
@@ -33,6 +36,11 @@ def main():
     for name, view_rule in rule["views"].items():
         scene, camera = name.split(".")
         view = {"scene": scene, "camera": camera}
+        # A view whose mirrors the scene's planar probes serve is measured without them: this
+        # rule is about the local probes' march (failure_cases' floor and vertical mirror).
+        if view_rule.get("without_planar"):
+            view["file"] = without_planar_probes(str(bench.SOURCE / "assets" / "scenes" / f"{scene}.gltf"),
+                                                 str(out / f"{name}.scene"))
         ref_dir, _ = bench.render_reference(a, view, rule["size"], rule["reference"], out / "cache")
         exposure = json.loads((ref_dir / "reference.json").read_text())["exposure"]
         got = {}

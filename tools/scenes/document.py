@@ -127,9 +127,9 @@ class Gltf:
             rot = quat_look_at((0.0, 0.0, 0.0), direction)
         return self.node(name, position, rot, extensions={"KHR_lights_punctual": {"light": len(self.lights) - 1}})
 
-    def probe(self, name, center, **fields):
+    def probe(self, name, center, rotation=None, **fields):
         self.used.add(PROBE_EXT)
-        return self.node(name, center, extensions={PROBE_EXT: fields})
+        return self.node(name, center, rotation, extensions={PROBE_EXT: fields})
 
     def box_probe(self, name, center, extents, blend, resolution, kind=KIND.local_cubemap, order=0):
         """The probe every scene places: an axis-aligned box captured once."""
