@@ -4,7 +4,7 @@ mirror hall (two facing wall mirrors) and the sample game's hall of mirrors."""
 import math
 
 from speculum_py.enums import KIND
-from speculum_py.vec import quat_axis_angle
+from speculum_py.vec import quat_axis_angle, quat_mul
 
 from .document import Gltf, add_placed_cmos, write_path
 from .materials import LAMP_COLOR, SUN_COLOR, mirror_ext
@@ -177,6 +177,20 @@ def build_mirror_hall():
     # 1.5 m from both mirrors, which it sees whole (self-reflections bounce between them).
     g.box_probe("reflection_probe.hall", (0.0, H / 2, 0.0), [W, H / 2, D], 0.25, 128)
     g.box_probe("cmo.hall", (0.0, 1.5, 0.0), [0.5, 0.5, 0.5], 0.0, 256, kind=KIND.cmo, order=1)
+    # A planar probe on the right mirror, the one every camera looks into (issue 24): what
+    # `speculum-probes place --budget-db 30 --views facing,highlight_a,highlight_b --bounces 4`
+    # proposes (8.8 m^2, nearly all the reflected weight), before any CMO, which then gains
+    # nothing. Its mirrored view holds the hall with the left mirror's own reflections (the CMO
+    # and the local probe there), the nested corridor a bounce deeper than the CMO alone
+    # traced: mirror band facing 20.54 -> 24.29 dB, highlight_a 22.20 -> 27.37, highlight_b
+    # 22.37 -> 26.50 (modules/reflections/MEASUREMENTS.md). What it gets wrong: the third level
+    # of facing's corridor, the left mirror as the mirrored view sees it, is a dark panel (that
+    # view's mirrors read the probes' bake a bounce short, probes.cubes_below), where the
+    # reference's corridor goes on. The CMO tests (nested self-reflections, the moving
+    # highlight) measure the hall without it. Local +Y the mirror's normal (-x), local x along
+    # its 4 m (z), local z down its 2.2 m.
+    upright = quat_mul(quat_axis_angle((0, 1, 0), -90.0), quat_axis_angle((1, 0, 0), 90.0))
+    g.probe("planar.mirror_right", (W - 0.05, 1.5, 0.0), rotation=upright, kind=KIND.planar, extents=[2.0, 1.1])
     g.camera("main", (-2.2, 1.6, 1.8), (2.95, 1.3, -0.5))
     # Straight into the right mirror: the nested corridor of reflections between the two.
     g.camera("facing", (-1.0, 1.5, 0.3), (W, 1.5, 0.0))
