@@ -209,6 +209,13 @@ struct Reflections::Impl {
     };
     static ChainReads readChain(PassBuilder& b, const probes::ProbeSet& set);
     void bindChain(gpu::DescriptorWriter& w, PassContext& pc, const ChainReads& r) const;
+    // A CMO set, as the CMO trace and hit reuse's CMO variant read it.
+    struct CmoReads {
+        TextureHandle distance, radiance, attr, albedo;
+        BufferHandle records;
+    };
+    static CmoReads readCmos(PassBuilder& b, const probes::CmoSet& set);
+    void bindCmos(gpu::DescriptorWriter& w, PassContext& pc, const CmoReads& r) const;
     // What the passes that keep a history (temporal, refresh) read alike: the surface, its motion,
     // their own history with its normals, and the previous depth (shaders/reprojection.glsl).
     struct HistoryReads {

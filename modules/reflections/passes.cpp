@@ -393,8 +393,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
     const probes::CmoSet& set = in.probes.cmos;
     const TextureHandle guideImage = tiles.guide;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, guide, distance, radiance, attr, albedo, cmo, info, planar;
-        BufferHandle records, planarRecords, tiles;
+        TextureHandle hiz, normal, emissive, hit, guide, cmo, info, planar;
+        BufferHandle planarRecords, tiles;
+        CmoReads cmos;
     };
     const TextureDesc desc{.format = kColorFormat, .relativeTo = out.hit};
     // With tiles, both outputs start as 0 ("no CMO hit") and the CMO trace writes its tiles only.
@@ -413,13 +414,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
             data.emissive = b.read(in.gbuffer.emissive, TextureUsage::Sampled);
             data.hit = b.read(out.hit, TextureUsage::Sampled);
             data.guide = b.read(guideImage.valid() ? guideImage : in.gbuffer.normal, TextureUsage::Sampled);
-            data.records = b.read(set.records, BufferUsage::StorageRead);
+            data.cmos = readCmos(b, set);
             data.tiles = b.read(tiles.tiles, BufferUsage::StorageRead);
             b.read(tiles.tiles, BufferUsage::Indirect);
-            data.distance = b.read(set.distance, TextureUsage::Sampled);
-            data.radiance = b.read(set.radiance, TextureUsage::Sampled);
-            data.attr = b.read(set.attr, TextureUsage::Sampled);
-            data.albedo = b.read(set.albedo, TextureUsage::Sampled);
             data.cmo = b.write(cleared.empty() ? b.create("reflections.cmo", desc) : cleared[0], TextureUsage::StorageWrite);
             data.info = b.write(cleared.empty() ? b.create("reflections.cmo_info", desc) : cleared[1],
                                 TextureUsage::StorageWrite);
@@ -427,14 +424,9 @@ void Reflections::Impl::addCmoTrace(FrameGraph& g, const ReflectionInputs& in, c
         [this, half = guideImage.valid(), linear = s.cmoTrace == CmoTraceMode::Linear, tiled = s.tiles](
             const Data& data, PassContext& pc) {
             gpu::DescriptorWriter w = surfaceWriter(pc, data.hiz, data.normal, data.emissive);
+            bindCmos(w, pc, data.cmos);
             w.sampled("hitTex", pc.view(data.hit), nearest)
                 .sampled("guideTex", pc.view(data.guide), nearest)
-                .buffer("CmoBuffer", pc.buffer(data.records))
-                .sampled("cmoDistance", pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled("cmoLayers", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled("cmoAttr", pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear)
                 .storage("cmoOut", pc.view(data.cmo))
                 .storage("infoOut", pc.view(data.info))
                 .buffer("PlanarBuffer", pc.buffer(data.planarRecords))
@@ -470,6 +462,22 @@ void Reflections::Impl::bindChain(gpu::DescriptorWriter& w, PassContext& pc, con
         .sampled("planarImages", pc.view(r.planar, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear)
         .buffer("GroundBuffer", pc.buffer(r.groundRecords))
         .sampled("groundImages", pc.view(r.ground, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), trilinear);
+}
+
+// A CMO set as the passes that trace or shade its hits read it (cmo_trace, hit_reuse_cmo).
+Reflections::Impl::CmoReads Reflections::Impl::readCmos(PassBuilder& b, const probes::CmoSet& set) {
+    return {b.read(set.distance, TextureUsage::Sampled), b.read(set.radiance, TextureUsage::Sampled),
+            b.read(set.attr, TextureUsage::Sampled), b.read(set.albedo, TextureUsage::Sampled),
+            b.read(set.records, BufferUsage::StorageRead)};
+}
+
+void Reflections::Impl::bindCmos(gpu::DescriptorWriter& w, PassContext& pc, const CmoReads& r) const {
+    w.buffer("CmoBuffer", pc.buffer(r.records))
+        .sampled("cmoDistance", pc.view(r.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+        .sampled("cmoLayers", pc.view(r.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+        .sampled("cmoAttr", pc.view(r.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+        .sampled("cmoAlbedo", pc.view(r.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
+        .sampled("cmoRadiance", pc.view(r.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
 }
 
 void Reflections::Impl::addResolve(FrameGraph& g, const ReflectionInputs& in, const Classified& tiles,
@@ -607,9 +615,9 @@ TextureHandle Reflections::Impl::addHitReusePass(FrameGraph& g, const Reflection
                                                  bool linear, BufferHandle footprint) {
     const probes::CmoSet& set = in.probes.cmos;
     struct Data {
-        TextureHandle hiz, normal, emissive, hit, color, guide, method, half, dst, cmo, info, distance, radiance, attr,
-            albedo;
-        BufferHandle tiles, footprint, records;
+        TextureHandle hiz, normal, emissive, hit, color, guide, method, half, dst, cmo, info;
+        BufferHandle tiles, footprint;
+        CmoReads cmos;
     };
     const auto& d = g.addPass<Data>(
         cmos ? "reflections.hit_reuse_cmo" : "reflections.hit_reuse", PassType::Compute,
@@ -627,11 +635,7 @@ TextureHandle Reflections::Impl::addHitReusePass(FrameGraph& g, const Reflection
             if (cmos) {
                 data.cmo = b.read(out.cmo, TextureUsage::Sampled);
                 data.info = b.read(out.cmoInfo, TextureUsage::Sampled);
-                data.records = b.read(set.records, BufferUsage::StorageRead);
-                data.distance = b.read(set.distance, TextureUsage::Sampled);
-                data.radiance = b.read(set.radiance, TextureUsage::Sampled);
-                data.attr = b.read(set.attr, TextureUsage::Sampled);
-                data.albedo = b.read(set.albedo, TextureUsage::Sampled);
+                data.cmos = readCmos(b, set);
             }
             data.dst = b.write(upsampled, TextureUsage::StorageWrite);
         },
@@ -645,15 +649,10 @@ TextureHandle Reflections::Impl::addHitReusePass(FrameGraph& g, const Reflection
                 .sampled("envSpecular", renderer.environment().specular().view(), renderer.environment().sampler())
                 .storage("reflectionOut", pc.view(data.dst))
                 .buffer("tiles", pc.buffer(data.tiles));
-            if (cmos)
-                w.sampled("cmoTex", pc.view(data.cmo), nearest)
-                    .sampled("cmoInfoTex", pc.view(data.info), nearest)
-                    .buffer("CmoBuffer", pc.buffer(data.records))
-                    .sampled("cmoDistance", pc.view(data.distance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                    .sampled("cmoLayers", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                    .sampled("cmoAttr", pc.view(data.attr, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                    .sampled("cmoAlbedo", pc.view(data.albedo, {}, VK_IMAGE_VIEW_TYPE_2D_ARRAY), nearest)
-                    .sampled("cmoRadiance", pc.view(data.radiance, {}, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY), trilinear);
+            if (cmos) {
+                bindCmos(w, pc, data.cmos);
+                w.sampled("cmoTex", pc.view(data.cmo), nearest).sampled("cmoInfoTex", pc.view(data.info), nearest);
+            }
             using namespace shader;
             const bool tiled = data.footprint.valid();
             if (!tiled)
