@@ -31,12 +31,12 @@ from accuracy_args import tool_parser  # noqa: E402
 from stripes_test import load, without_planar_probes  # noqa: E402
 
 
-def hall_without_planar(cam, out):
+def hall_without_planar(out):
     """mirror_hall without the planar probe on its right mirror (tools/scenes/halls.py): these
     checks are about what the CMO traces there (its self-reflections, the moving highlight), and
-    the planar probe's mirrored image would take those pixels."""
+    the planar probe's mirrored image would take those pixels. Returns the scene file."""
     scene = bench.SOURCE / "assets" / "scenes" / "mirror_hall.gltf"
-    return {"scene": "mirror_hall", "camera": cam, "file": without_planar_probes(str(scene), str(out / "scene"))}
+    return without_planar_probes(str(scene), str(out / "scene"))
 
 
 def band_scores(tools, test, ref_dir, exposure, rough, max_roughness):
@@ -72,7 +72,7 @@ def run(tools, view, size, sets, out, name):
 
 
 def nested(tools, rule, out, cache):
-    view = hall_without_planar("facing", out)
+    view = {"scene": "mirror_hall", "camera": "facing", "file": hall_without_planar(out)}
     ref_dir, exposure = reference(tools, view, rule["size"], rule["reference"], cache)
     rough = roughness(tools, view, rule["size"], out)
     got = {}
@@ -116,9 +116,10 @@ def brightest(path, tmp, box):
 def highlight(tools, rule, out, cache):
     ok = True
     spots = {}
+    hall = hall_without_planar(out)
     with tempfile.TemporaryDirectory() as tmp:
         for cam in ("highlight_a", "highlight_b"):
-            view = hall_without_planar(cam, out)
+            view = {"scene": "mirror_hall", "camera": cam, "file": hall}
             ref_dir, _ = reference(tools, view, rule["size"], rule["reference"], cache)
             image, _ = run(tools, view, rule["size"], rule["with"], out, f"highlight.{cam}")
             box = ball_box(ref_dir / "reflection.0000.exr", tmp)

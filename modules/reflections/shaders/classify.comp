@@ -42,10 +42,6 @@ int rotationStart(ivec2 halfPixel) {
     const int kOrder[4] = int[](0, 3, 1, 2);
     return kOrder[(int(rf.frameIndex) + (halfPixel.x & 1) + 2 * (halfPixel.y & 1)) & 3];
 }
-// brdf.glsl's coneTan is 0 (a mirror's ray: Phong power past 2^20) below roughness 0.03716; a
-// ray from this roughness up counts as a cone, a few with no cone among them (the cone variant
-// resolves a mirror's ray alike): a compare instead of coneTan's exp2, log2 and square root.
-const float kConeMinRoughness = 0.037;
 #define SPECULUM_REFLECTIONS_GUIDE_CHOOSE
 #include "reflections/shaders/guide.glsl"
 

@@ -84,9 +84,8 @@ int cmoFirstHit(vec3 origin, vec3 normal, vec3 dir, bool linear, inout int itera
 vec3 cmoSelfReflections(vec3 hp, vec3 hn, vec3 f0, vec3 dir, vec3 shaded, float travelled, float coneSlope,
                         bool linear, inout int iterations, inout float bounces) {
     int maxBounces = int(rf.cmoBounces);
-    vec3 throughput = vec3(1.0);
     vec3 fallback = shaded;
-    throughput *= F_Schlick(f0, max(dot(hn, -dir), 0.0));
+    vec3 throughput = F_Schlick(f0, max(dot(hn, -dir), 0.0));
     vec3 origin = hp, normal = hn;
     dir = reflect(dir, hn);
     bounces = 1.0;

@@ -82,6 +82,12 @@ ivec2 guidePixel(ivec2 halfPixel, vec4 guide) {
     return min(halfPixel * 2 + ivec2(i & 1, i >> 1), ivec2(rf.size.xy) - 1);
 }
 
+// brdf.glsl's coneTan is 0 (a mirror's ray: Phong power past 2^20) below roughness 0.03716; a
+// ray from this roughness up counts as a cone, a few with no cone among them (the cone variant
+// resolves a mirror's ray alike): a compare instead of coneTan's exp2, log2 and square root.
+// reflections.classify lists tiles by it; reflections.hit_reuse serves the mirror rays below it.
+const float kConeMinRoughness = 0.037;
+
 // method.a for reflections of the sky (resolve.comp writes it, temporal.comp reprojects such
 // reflections by direction): the largest half float, exact in the RGBA16F method image.
 const float kSkyDistance = 65504.0;

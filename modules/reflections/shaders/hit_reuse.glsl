@@ -68,8 +68,6 @@ layout(constant_id = 303) const uint kList = 0u;
 // The lookup tiles' variant has no screen-space term: none of their samples traced a ray.
 const bool kScreenCandidates = kTileMode == kTileModeScreen || kList != kListLookup;
 
-// As reflections.classify counts a mirror's ray (no cone loop in the resolve).
-const float kConeMinRoughness = 0.037;
 // How far the surface may lie from a candidate point: 2% of its distance, the upsampling's own
 // plane tolerance.
 const float kAgreement = 0.02;
@@ -80,14 +78,18 @@ bool onScreen(vec3 x) {
     return all(greaterThanEqual(x.xy, vec2(0.0))) && all(lessThan(x.xy, rf.size.xy)) && x.z > 0.0;
 }
 
-// The pixel's ray p + t r stepped onto the tangent plane of the depth buffer's surface at screen
-// point `at` (pixels): the new t, or -1 where the plane faces away from the ray.
+// Where the ray p + t r meets the plane through s with normal ns: t, or -1 where the plane faces
+// away from the ray.
+float planeT(vec3 p, vec3 r, vec3 s, vec3 ns) {
+    float denom = dot(r, ns);
+    return denom < -1e-3 ? dot(s - p, ns) / denom : -1.0;
+}
+
+// The pixel's ray stepped onto the tangent plane of the depth buffer's surface at screen point
+// `at` (pixels): the new t, or -1.
 float planeStep(vec3 p, vec3 r, ivec2 at) {
     float z = texelFetch(hiz, at, 0).g;
-    vec3 s = worldAt(vec2(at) + 0.5, z);
-    vec3 ns = normalize(texelFetch(normalTex, at, 0).xyz);
-    float denom = dot(r, ns);
-    return z > 0.0 && denom < -1e-3 ? dot(s - p, ns) / denom : -1.0;
+    return z > 0.0 ? planeT(p, r, worldAt(vec2(at) + 0.5, z), normalize(texelFetch(normalTex, at, 0).xyz)) : -1.0;
 }
 
 // The best screen-space candidate: xy the sub-pixel hit, z its depth (0: none agrees).
@@ -146,15 +148,13 @@ vec2 cmoCandidate(ivec2 base, ivec2 lowSize, vec3 p, vec3 r) {
         vec3 u = p + r * tHit - c.center.xyz;
         float d;
         vec3 ns;
-        bool ok = cmoSurface(c, u, d, ns);
-        float denom = dot(r, ns);
-        float t = usable && ok && denom < -1e-3 ? dot(c.center.xyz + normalize(u) * d - p, ns) / denom : -1.0;
+        bool ok = usable && cmoSurface(c, u, d, ns);
+        float t = ok ? planeT(p, r, c.center.xyz + normalize(u) * d, ns) : -1.0;
         // The surface there, and the plane once more.
         u = p + r * max(t, 0.0) - c.center.xyz;
         ok = t > 0.0 && cmoSurface(c, u, d, ns);
         float off = ok ? abs(length(u) - d) / max(d, 1e-6) : 1.0;
-        denom = dot(r, ns);
-        t = ok && denom < -1e-3 ? dot(c.center.xyz + normalize(u) * d - p, ns) / denom : -1.0;
+        t = ok ? planeT(p, r, c.center.xyz + normalize(u) * d, ns) : -1.0;
         bool better = off < kAgreement && t > 0.0 && t < nearest;
         nearest = better ? t : nearest;
         bestHit = better ? vec2(float(k), t) : bestHit;
