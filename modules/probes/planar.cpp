@@ -351,7 +351,9 @@ void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
         render::FrameInputs mirrored;
         if (!mirroredCamera(cam, info.plane, w, h, kClipOffset, mirrored.camera)) continue;
         mirrored.previousCamera = mirrored.camera;
-        mirrored.primaryView = view.primaryView;
+        // A reflection, like a probe's capture: what the player's view leaves out
+        // (Node::hiddenPrimary, the game's gems, seen only in mirrors) is drawn into it.
+        mirrored.primaryView = false;
         mirrored.mirrored = true;
         m.renderPlanarProbe(i, mirrored, base);
         shader::PlanarProbe rec{};

@@ -781,3 +781,55 @@ TEST_F(ProbesGpu, DebugViewsShowTheOnlyProbeEverywhereInsideIt) {
         EXPECT_EQ(skyWrong, 0u) << view << ": sky pixels not black, of " << sky;
     }
 }
+
+// A planar probe's mirrored view is a reflection, as a probe's capture is: what the player's view
+// leaves out (Node::hiddenPrimary, the game's gems, seen only in mirrors) shows in the mirror it
+// serves. A mirror floor with a planar probe and, node 0, a glowing square 2 m up and 2 m ahead
+// that faces down, above the camera's view (its top edge is 4 degrees above the horizon, the
+// square 11 degrees up) and inside the floor's reflection of it (12 degrees under the view's
+// axis). The primary view renders it with the square and with the square removed
+// (Renderer::setNodeVisible); the mirror's pixels must tell the two apart. Before 2026-12-07 the
+// mirrored view inherited primaryView and left the square out: no pixel differed.
+TEST_F(ProbesGpu, PlanarProbeShowsWhatThePrimaryViewHides) {
+    const uint32_t w = 96, h = 64;
+    Scene scene;
+    Material mirror{.name = "mirror", .baseColor = glm::vec4(0.95f, 0.95f, 0.95f, 1.0f), .metallic = 1.0f, .roughness = 0.0f};
+    Material glow = render::test::greyMaterial("glow", 0.0f, 1.0f);
+    glow.emissive = {1.0f, 0.6f, 0.2f};
+    glow.emissiveStrength = 4.0f;
+    scene.materials = {mirror, glow};
+    render::test::addMesh(scene, render::test::square({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 4.0f, 0));     // faces +y
+    render::test::addMesh(scene, render::test::square({0, 2, -2}, {1, 0, 0}, {0, 0, 1}, 0.75f, 1));   // faces -y
+    Node gem;
+    gem.name = "collectible.0";
+    gem.hiddenPrimary = true;
+    scene.nodes.push_back(gem);
+    scene.instances[1].node = 0;
+    Node planar;
+    planar.name = "planar.floor";
+    planar.probe = ReflectionProbe{.kind = ProbeKind::Planar, .extents = {4.0f, 4.0f, 0.0f}};
+    scene.nodes.push_back(planar);
+    scene.roots = {0, 1};
+    Camera camera;
+    camera.name = "main";
+    camera.world = glm::inverse(glm::lookAt(glm::vec3(0, 1, 3), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0)));
+    scene.cameras.push_back(camera);
+
+    Composed c(*ctx_, scene, w, h);
+    c.frame.primaryView = true;
+    const std::vector<float> with = c.render({"reflection", "depth"}).aovs.at("reflection").rgba;
+    c.renderer.setNodeVisible(0, false);
+    app::FrameResult res = c.render({"reflection", "depth"});
+    const std::vector<float>& without = res.aovs.at("reflection").rgba;
+    const std::vector<float>& depth = res.aovs.at("depth").rgba;
+    size_t floor = 0, shows = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        if (!(depth[i * 4] > 0.0f)) continue;  // the sky above the floor's far edge
+        ++floor;
+        // The square's glow reflected: its red channel is 4 x 0.95 against the sky's under 1.
+        shows += with[i * 4] - without[i * 4] > 1.0f;
+    }
+    EXPECT_GT(floor, size_t(w) * h / 2);
+    // Its image covers 228 pixels at this size (about 20 x 11).
+    EXPECT_GE(shows, 150u) << "floor pixels that show the hidden square, of " << floor;
+}
