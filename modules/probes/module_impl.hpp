@@ -171,7 +171,8 @@ struct Probes::Impl {
     void createPlanar();
     void validatePlanar() const;
     void allocatePlanar(uint32_t width, uint32_t height);
-    void renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t layer);
+    // Into its layer's mip `base`, the crop's texels at `rect` (renderPlanar).
+    void renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t base, const TexelRect& rect);
     // The grounds' array, records and pipeline (planar.cpp); renderGrounds renders every planar
     // probe's ground and writes their records.
     void createGrounds();

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <vector>
 
 namespace speculum::probes {
 namespace {
@@ -23,6 +24,11 @@ constexpr float kClipOffset = 0.002f;
 // normal map's bumps) and its position within 1 cm (plus 0.2% of its distance, planar.glsl).
 constexpr float kNormalTolerance = 0.95f;
 constexpr float kDistanceTolerance = 0.01f;
+// The mirrored view renders only the texels its rectangle covers on screen (planarFootprint)
+// and this many around them: the widest lobe it serves (roughness 0.3, planarShare) reads a box
+// mip of about 23 texels at the default half height, so a glossy pixel at the mirror's screen
+// edge reads within 12 of it what the whole image would have held there.
+constexpr uint32_t kCropMargin = 12;
 
 struct StorePush {
     glm::mat4 invViewProj;
@@ -144,6 +150,58 @@ bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t w
     c.height = std::max(height, 1u);
     out = c;
     return true;
+}
+
+TexelRect planarFootprint(const glm::mat4& viewProj, const PlanarInfo& info, uint32_t width, uint32_t height,
+                          uint32_t margin) {
+    const glm::dmat4 vp(viewProj);
+    const glm::dvec3 o(info.origin), x(info.axisX * info.probe.extents.x), z(info.axisZ * info.probe.extents.y);
+    std::vector<glm::dvec4> poly;
+    for (glm::dvec2 c : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)})
+        poly.push_back(vp * glm::dvec4(o + c.x * x + c.y * z, 1.0));
+    // Clipped at the near plane (reversed-Z: z <= w in front of it; there w >= znear > 0), so
+    // a floor running under the camera projects to the screen's edge, not through infinity.
+    std::vector<glm::dvec4> kept;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        const glm::dvec4 &a = poly[i], &b = poly[(i + 1) % poly.size()];
+        const double fa = a.w - a.z, fb = b.w - b.z;
+        if (fa >= 0.0) kept.push_back(a);
+        if ((fa >= 0.0) != (fb >= 0.0)) kept.push_back(a + (b - a) * (fa / (fa - fb)));
+    }
+    if (kept.empty()) return {};
+    glm::dvec2 lo(1e30), hi(-1e30);
+    for (const glm::dvec4& c : kept) {
+        const glm::dvec2 uv = glm::dvec2(c) / std::max(c.w, 1e-12) * 0.5 + 0.5;
+        lo = glm::min(lo, uv);
+        hi = glm::max(hi, uv);
+    }
+    const glm::dvec2 size(width, height), m(margin);
+    const glm::dvec2 a = glm::clamp(glm::floor(lo * size) - m, glm::dvec2(0.0), size);
+    const glm::dvec2 b = glm::clamp(glm::ceil(hi * size) + m, glm::dvec2(0.0), size);
+    if (a.x >= b.x || a.y >= b.y) return {};
+    return {uint32_t(a.x), uint32_t(a.y), uint32_t(b.x), uint32_t(b.y)};
+}
+
+render::CameraState cropCamera(const render::CameraState& camera, const TexelRect& rect) {
+    if (rect.x0 == 0 && rect.y0 == 0 && rect.x1 == camera.width && rect.y1 == camera.height) return camera;
+    // NDC of the rect's edges in the full image, and the window that maps them to [-1, 1]:
+    // x' = (x - c w) / s on clip coordinates, rows 0 and 1 only (depth and w keep their rows).
+    const glm::dvec2 size(camera.width, camera.height);
+    const glm::dvec2 lo = glm::dvec2(rect.x0, rect.y0) / size * 2.0 - 1.0, hi = glm::dvec2(rect.x1, rect.y1) / size * 2.0 - 1.0;
+    const glm::dvec2 c = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    glm::dmat4 window(1.0);
+    window[0][0] = 1.0 / half.x;
+    window[1][1] = 1.0 / half.y;
+    window[3][0] = -c.x / half.x;
+    window[3][1] = -c.y / half.y;
+    render::CameraState out = camera;
+    out.proj = glm::mat4(window * glm::dmat4(camera.proj));
+    const glm::dmat4 viewProj = window * glm::dmat4(camera.proj) * glm::dmat4(camera.view);
+    out.viewProj = glm::mat4(viewProj);
+    out.invViewProj = glm::mat4(glm::inverse(viewProj));
+    out.width = rect.x1 - rect.x0;
+    out.height = rect.y1 - rect.y0;
+    return out;
 }
 
 void Probes::Impl::createPlanar() {
@@ -272,7 +330,8 @@ void Probes::Impl::allocatePlanar(uint32_t width, uint32_t height) {
     s.valid = false;  // new images: the next renderPlanar renders whatever its interval
     uint32_t h = 4;
     for (const PlanarInfo& p : s.list) h = std::max(h, planarHeight(p, height, settings.planarScale));
-    const uint32_t limit = ctx.properties().limits.maxImageDimension2D;
+    // At most 4096: planar_store takes the crop's offset as x + 4096 y in a float.
+    const uint32_t limit = std::min(ctx.properties().limits.maxImageDimension2D, 4096u);
     h = std::min(h, limit);
     // The view's aspect: the mirrored camera keeps the view's projection.
     const uint32_t w = std::clamp(uint32_t(std::lround(double(h) * width / std::max(height, 1u))), 1u, limit);
@@ -289,7 +348,7 @@ void Probes::Impl::allocatePlanar(uint32_t width, uint32_t height) {
     });
 }
 
-void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t base) {
+void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& view, uint32_t base, const TexelRect& rect) {
     PlanarState& s = planar;
     const PlanarInfo& info = s.list[index];
     const uint32_t w = view.camera.width, h = view.camera.height;
@@ -310,7 +369,7 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
             d.face = pb.read(cap.face, TextureUsage::Sampled);
             d.out = pb.write(images, TextureUsage::StorageWrite, target);
         },
-        [this, &s, cam = view.camera, &info, target, &env = renderer.environment()](const Store& d, PassContext& pc) {
+        [this, &s, cam = view.camera, &info, target, rect, &env = renderer.environment()](const Store& d, PassContext& pc) {
             s.store.bind(pc.cmd());
             gpu::DescriptorWriter()
                 .sampled("depthTex", pc.view(d.depth), nearest)
@@ -319,7 +378,9 @@ void Probes::Impl::renderPlanarProbe(size_t index, const render::FrameInputs& vi
                 .storage("outImage", pc.view(d.out, target, VK_IMAGE_VIEW_TYPE_2D))
                 .push(ctx, pc.cmd(), s.store);
             const glm::vec3 x = info.axisX / info.probe.extents.x, z = info.axisZ / info.probe.extents.y;
-            StorePush p{cam.invViewProj, glm::vec4(cam.position, 0.0f), info.plane,
+            // eye.w: where the crop's first texel lies in the layer, x + 4096 y (exact in a float:
+            // allocatePlanar keeps the image within 4096 texels).
+            StorePush p{cam.invViewProj, glm::vec4(cam.position, float(rect.x0 + 4096u * rect.y0)), info.plane,
                         glm::vec4(x, -glm::dot(x, info.origin)), glm::vec4(z, -glm::dot(z, info.origin))};
             vkCmdPushConstants(pc.cmd(), s.store.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(p), &p);
             vkCmdDispatch(pc.cmd(), (cam.width + 7) / 8, (cam.height + 7) / 8, 1);
@@ -348,22 +409,30 @@ void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
         const double ratio = double(d.height) / double(planarHeight(info, cam.height, m.settings.planarScale));
         const uint32_t base = std::min(uint32_t(std::max(0L, std::lround(std::log2(ratio)))), d.mips - 1);
         const uint32_t w = std::max(d.width >> base, 1u), h = std::max(d.height >> base, 1u);
+        // Only what its rectangle covers on screen: a mirror a tenth of the view costs a tenth
+        // of the view; one off screen, nothing. Texel for texel the image holds what the whole
+        // mirrored view would (cropCamera keeps each texel's ray), the rest of the layer is stale.
+        const TexelRect rect = m.settings.planarCrop ? planarFootprint(cam.viewProj, info, w, h, kCropMargin)
+                                                     : TexelRect{0, 0, w, h};
         render::FrameInputs mirrored;
-        if (!mirroredCamera(cam, info.plane, w, h, kClipOffset, mirrored.camera)) continue;
-        mirrored.previousCamera = mirrored.camera;
+        render::CameraState full;
+        if (rect.empty() || !mirroredCamera(cam, info.plane, w, h, kClipOffset, full)) continue;
+        mirrored.camera = mirrored.previousCamera = cropCamera(full, rect);
         // A reflection, like a probe's capture: what the player's view leaves out
         // (Node::hiddenPrimary, the game's gems, seen only in mirrors) is drawn into it.
         mirrored.primaryView = false;
         mirrored.mirrored = true;
-        m.renderPlanarProbe(i, mirrored, base);
+        m.renderPlanarProbe(i, mirrored, base, rect);
         shader::PlanarProbe rec{};
-        rec.viewProj = mirrored.camera.viewProj;
+        rec.viewProj = full.viewProj;
         rec.worldToPlane = glm::inverse(glm::mat4(glm::vec4(info.axisX, 0.0f), glm::vec4(info.normal, 0.0f),
                                                   glm::vec4(info.axisZ, 0.0f), glm::vec4(info.origin, 1.0f)));
         rec.plane = info.plane;
         rec.extents = glm::vec4(info.probe.extents.x, info.probe.extents.y, kNormalTolerance, kDistanceTolerance);
         const float tanHalf = 1.0f / std::abs(cam.proj[1][1]);
         rec.params = glm::vec4(float(i), float(base), 2.0f * tanHalf / float(h), float(d.mips - 1));
+        rec.crop = glm::vec4((float(rect.x0) + 0.5f) / float(w), (float(rect.y0) + 0.5f) / float(h),
+                             (float(rect.x1) - 0.5f) / float(w), (float(rect.y1) - 0.5f) / float(h));
         out[s.rendered++] = rec;
     }
 }

@@ -28,6 +28,10 @@ const SettingFields<ProbeSettings>& ProbeSettings::fields() {
          "(high.json) makes a sharp mirror floor's reflected edges a pixel wide instead of two: "
          "gallery.main's mirror band 22.70 -> 23.93 dB, for four times the planar render "
          "(modules/probes/MEASUREMENTS.md)."}),
+        bind<&P::planarCrop>({"probes.planar_crop", T::Bool, "", 0, 1, 1, {},
+         "Render a planar probe's mirrored view only where its rectangle lies on screen (and 12 "
+         "texels around it), texel for texel what the whole view holds there; a probe off screen "
+         "renders nothing. false: the whole view, for comparison (modules/probes/MEASUREMENTS.md)."}),
         bind<&P::planarGround>({"probes.planar_ground", T::Int, "px", 0, 1024, 128, {},
          "Each planar probe's ground: its rectangle seen straight down, this many pixels a side "
          "(0: none), rendered at load and on a whole-scene re-bake. A reflected ray that meets "

@@ -145,5 +145,104 @@ TEST(PlanarCamera, GroundFillsTheRectangleAndClipsOffThePlane) {
     EXPECT_GT(area(c) * area(persp), 0.0) << area(c) << " " << area(persp);
 }
 
+// The crop (planar.cpp, cropCamera): a texel of the cropped camera sees along the ray of the
+// full camera's texel it stands for, so the planar image holds the same values where it is
+// rendered; a point projects into the crop where the full image puts it, less the offset.
+TEST(PlanarCamera, CropKeepsEveryTexelsRay) {
+    Fixture f;
+    const TexelRect rect{23, 11, 101, 64};
+    const render::CameraState crop = cropCamera(f.mirrored, rect);
+    ASSERT_EQ(crop.width, 78u);
+    ASSERT_EQ(crop.height, 53u);
+    for (uint32_t y = rect.y0; y < rect.y1; y += 7)
+        for (uint32_t x = rect.x0; x < rect.x1; x += 5) {
+            glm::vec3 o0, d0, o1, d1;
+            render::primaryRay(f.mirrored, float(x), float(y), o0, d0);
+            render::primaryRay(crop, float(x - rect.x0), float(y - rect.y0), o1, d1);
+            EXPECT_NEAR(glm::distance(d0, d1), 0.0f, 1e-5f) << x << " " << y;
+            // The origin lies on the oblique near plane, the mirror 2-4 m off: float32 matrices.
+            EXPECT_NEAR(glm::distance(o0, o1), 0.0f, 1e-3f) << x << " " << y;
+        }
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-2.5f, 2.5f), h(0.1f, 2.0f);
+    for (int i = 0; i < 50; ++i) {
+        const glm::vec3 p(u(rng), h(rng), u(rng));
+        const glm::dvec4 a = clipOf(f.mirrored, p), b = clipOf(crop, p);
+        if (!(a.w > 0.0)) continue;
+        const glm::dvec2 full = (glm::dvec2(a) / a.w * 0.5 + 0.5) * glm::dvec2(160, 90);
+        const glm::dvec2 cropped = (glm::dvec2(b) / b.w * 0.5 + 0.5) * glm::dvec2(78, 53);
+        EXPECT_NEAR(cropped.x, full.x - rect.x0, 1e-3) << i;
+        EXPECT_NEAR(cropped.y, full.y - rect.y0, 1e-3) << i;
+        EXPECT_NEAR(b.z / b.w, a.z / a.w, 1e-6) << i;  // depth unchanged
+    }
+    // The whole image is the camera itself.
+    const render::CameraState same = cropCamera(f.mirrored, {0, 0, 160, 90});
+    EXPECT_EQ(same.viewProj, f.mirrored.viewProj);
+}
+
+// The footprint (planarFootprint): every point of the rectangle the view sees lands inside it,
+// it is tight (no margin asked, a rectangle wholly on screen: the texels its corners fall in),
+// a floor running under the camera is clipped at the near plane rather than projected through
+// it, and a rectangle behind the camera has none.
+TEST(PlanarCamera, FootprintIsTheRectanglesTexelsOnScreen) {
+    PlanarInfo info;
+    info.origin = {0.5f, 0.0f, -2.0f};
+    info.plane = {0.0f, 1.0f, 0.0f, 0.0f};
+    info.probe.extents = {1.5f, 1.0f, 0.0f};
+    const uint32_t w = 160, h = 90;
+    render::CameraState view = render::makeCamera({0.0f, 1.6f, 1.0f}, {0.4f, 0.2f, -2.0f}, {0, 1, 0}, 0.95f, w, h);
+    const TexelRect r = planarFootprint(view.viewProj, info, w, h, 0);
+    ASSERT_FALSE(r.empty());
+    EXPECT_LT(r.x1 - r.x0, w);  // a part of the view, not all of it
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < 4000; ++i) {
+        const glm::vec3 p = info.origin + glm::vec3(u(rng) * 1.5f, 0.0f, u(rng) * 1.0f);
+        const glm::dvec4 c = clipOf(view, p);
+        if (!visible(c)) continue;
+        const glm::dvec2 t = (glm::dvec2(c) / c.w * 0.5 + 0.5) * glm::dvec2(w, h);
+        EXPECT_TRUE(t.x >= r.x0 && t.x <= r.x1 && t.y >= r.y0 && t.y <= r.y1) << t.x << " " << t.y;
+    }
+    glm::dvec2 lo(1e9), hi(-1e9);
+    for (float cx : {-1.0f, 1.0f})
+        for (float cz : {-1.0f, 1.0f}) {
+            const glm::dvec4 c = clipOf(view, info.origin + glm::vec3(cx * 1.5f, 0.0f, cz * 1.0f));
+            ASSERT_TRUE(visible(c));
+            const glm::dvec2 t = (glm::dvec2(c) / c.w * 0.5 + 0.5) * glm::dvec2(w, h);
+            lo = glm::min(lo, t);
+            hi = glm::max(hi, t);
+        }
+    EXPECT_EQ(r.x0, uint32_t(std::floor(lo.x)));
+    EXPECT_EQ(r.y0, uint32_t(std::floor(lo.y)));
+    EXPECT_EQ(r.x1, uint32_t(std::ceil(hi.x)));
+    EXPECT_EQ(r.y1, uint32_t(std::ceil(hi.y)));
+    // A margin grows it, within the image.
+    const TexelRect m = planarFootprint(view.viewProj, info, w, h, 12);
+    EXPECT_EQ(m.x0, r.x0 >= 12 ? r.x0 - 12 : 0u);
+    EXPECT_EQ(m.y1, std::min(r.y1 + 12, h));
+    // A floor under the camera reaches the image's bottom and sides; one behind it has none.
+    PlanarInfo floor = info;
+    floor.origin = {0.0f, 0.0f, 0.0f};
+    floor.probe.extents = {20.0f, 20.0f, 0.0f};
+    const TexelRect under = planarFootprint(view.viewProj, floor, w, h, 0);
+    EXPECT_EQ(under.x0, 0u);
+    EXPECT_EQ(under.x1, w);
+    EXPECT_EQ(under.y1 - under.y0 > h / 3, true);
+    // A strip on the floor right of the view's axis, from behind the camera to 3 m ahead: its
+    // part in front lies in the right half of the image. Its corners behind the camera,
+    // projected without the near plane's clip, would land on the left.
+    PlanarInfo strip = info;
+    strip.origin = {1.2f, 0.0f, 0.0f};
+    strip.probe.extents = {0.2f, 3.0f, 0.0f};
+    const TexelRect side = planarFootprint(view.viewProj, strip, w, h, 0);
+    ASSERT_FALSE(side.empty());
+    EXPECT_GT(side.x0, w / 2) << side.x0 << " " << side.x1;
+    EXPECT_EQ(side.y1, h);
+    PlanarInfo behind = info;
+    behind.origin = {0.0f, 0.0f, 6.0f};
+    behind.probe.extents = {1.0f, 1.0f, 0.0f};
+    EXPECT_TRUE(planarFootprint(view.viewProj, behind, w, h, 0).empty());
+}
+
 }  // namespace
 }  // namespace speculum::probes

@@ -52,7 +52,7 @@ float planarDistance(int index, vec3 p) {
     PlanarProbe pl = planars[index];
     int base = int(pl.params.y);
     ivec2 size = textureSize(planarImages, base).xy;
-    ivec2 texel = clamp(ivec2(planarUv(pl, p) * vec2(size)), ivec2(0), size - 1);
+    ivec2 texel = clamp(ivec2(clamp(planarUv(pl, p), pl.crop.xy, pl.crop.zw) * vec2(size)), ivec2(0), size - 1);
     return texelFetch(planarImages, ivec3(texel, int(pl.params.x)), base).a;
 }
 
@@ -67,7 +67,9 @@ vec4 samplePlanar(int index, vec3 p, vec3 r, float roughness, float eyeDistance)
     // mirrored eye, eyeDistance + d away).
     float footprint = 2.0 * coneTan(roughness) * min(d, 1e4) / max(pl.params.z * (eyeDistance + min(d, 1e4)), 1e-9);
     float lod = clamp(base + log2(max(footprint, 1.0)), base, pl.params.w);
-    vec3 c = textureLod(planarImages, vec3(clamp(uv, 0.0, 1.0), layer), lod).rgb;
+    // Within the texels rendered this time (planar.cpp, planarFootprint): a bumped or glossy
+    // ray reaching past them reads the crop's edge, never the layer's stale texels.
+    vec3 c = textureLod(planarImages, vec3(clamp(uv, pl.crop.xy, pl.crop.zw), layer), lod).rgb;
     return vec4(c, d);
 }
 

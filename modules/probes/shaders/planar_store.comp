@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// probes.planar_store: a planar probe's image from its mirrored view. rgb: the lit view with the
+// probes.planar_store: a planar probe's image from its mirrored view (the crop of it that its
+// rectangle covers on screen, written where the whole view would have it in the layer). rgb: the lit view with the
 // specular ambient of reflective surfaces (probes.capture_bounce) and the sky where nothing was
 // drawn (a mirror shows the sky exactly, unlike a cube's proxy); alpha: the distance from where
 // the mirrored ray crosses the plane to the surface it sees (m), 65504 (the half float's largest,
@@ -27,7 +28,7 @@ layout(set = 0, binding = 3, rgba16f) uniform writeonly image2D outImage;
 
 layout(push_constant) uniform Push {
     mat4 invViewProj;  // the mirrored camera's
-    vec4 eye;          // xyz the mirrored eye
+    vec4 eye;          // xyz the mirrored eye, w the crop's offset in the layer: x + 4096 y
     vec4 plane;        // xyz unit normal, w offset
     vec4 axisX;        // the rectangle's x axis over its half width, w its offset: |dot(q, xyz) + w| <= 1 inside
     vec4 axisZ;        // the same along its depth
@@ -110,5 +111,6 @@ void main() {
             }
         result = sum / n;
     }
-    imageStore(outImage, pixel, result);
+    uint offset = uint(pc.eye.w);
+    imageStore(outImage, pixel + ivec2(offset % 4096u, offset / 4096u), result);
 }

@@ -25,13 +25,14 @@ struct Probe {
 };
 
 // A planar probe's record (modules/probes/planar.cpp writes them each frame, planar.glsl reads
-// them from PlanarBuffer), std430: two matrices and three vec4 rows, 176 bytes.
+// them from PlanarBuffer), std430: two matrices and four vec4 rows, 192 bytes.
 struct PlanarProbe {
     mat4 viewProj;      // the mirrored camera's: a point on the plane lands where the view sees it
     mat4 worldToPlane;  // world to the plane's frame (metres): x along the width, y the normal, z the depth
     vec4 plane;         // xyz unit normal (world), w = -dot(normal, origin): dot(plane.xyz, p) + w
     vec4 extents;       // x half width, y half depth (m), z cos of the normal tolerance, w distance tolerance (m)
     vec4 params;        // x layer of the image array, y its base mip, z rad per pixel at that mip, w last mip
+    vec4 crop;          // the UV rectangle (min xy, max zw: texel centres) rendered this time; the rest is stale
 };
 
 // A planar probe's ground (planar.cpp renders it, probes.capture_bounce reads it from
@@ -48,7 +49,7 @@ struct PlanarGround {
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 112);
 static_assert(sizeof(PlanarGround) == 96);
-static_assert(sizeof(PlanarProbe) == 176);
+static_assert(sizeof(PlanarProbe) == 192);
 #endif
 SPECULUM_SHADER_NAMESPACE_END
 

@@ -43,6 +43,7 @@ struct ProbeSettings {
     int prefilterSlice;    // time-sliced: prefilter work per update, in 1024 texel-samples
     int planarInterval;    // planar probes render every this many frames (renderPlanar)
     float planarScale;     // a planar image's height over the view's, where the probe sets none
+    bool planarCrop;       // render only the texels a planar probe's rectangle covers on screen
     int planarGround;      // a planar probe's ground image size (0: none)
     bool autoProbe;        // an unconfigured scene gets a box probe fitted to its bounds
     int distanceSteps;     // march steps over a probe's captured distances (0: the proxy alone)
@@ -129,6 +130,22 @@ glm::mat4 reflectionMatrix(glm::vec4 plane);
 // is orthographic or its eye is not in front of the plane.
 bool mirroredCamera(const render::CameraState& view, glm::vec4 plane, uint32_t width, uint32_t height,
                     float clipOffset, render::CameraState& out);
+// A rectangle of texels, [x0, x1) x [y0, y1).
+struct TexelRect {
+    uint32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x0 >= x1 || y0 >= y1; }
+};
+// The texels of a width x height image over `viewProj`'s screen that the planar probe's
+// rectangle covers, as `viewProj` sees it (clipped at its near plane), grown by `margin` texels
+// and clamped to the image; empty when none of the rectangle is on screen. The mirrored camera
+// projects the plane's points where the view does, and a served pixel reads the planar image
+// at its own screen position (a bumped or glossy one around it), so only these texels are read.
+TexelRect planarFootprint(const glm::mat4& viewProj, const PlanarInfo& info, uint32_t width, uint32_t height,
+                          uint32_t margin);
+// `camera`, whose image is width x height, restricted to `rect` of that image: its projection
+// cropped (an off-axis window) so that the rect fills the returned camera's own image, each
+// texel seeing along the same ray as the full camera's texel there.
+render::CameraState cropCamera(const render::CameraState& camera, const TexelRect& rect);
 // The orthographic camera of a planar probe's ground (probe.h, PlanarGround): straight down the
 // normal from 50 m above the origin, the rectangle filling its size x size image, depth the plane
 // +-2 cm. A point of the rectangle lands in clip x and y within [-1, 1], at depth 0.5.
