@@ -209,7 +209,7 @@ def build_hall_of_mirrors():
     """The sample game's level (sample_game/README.md): hall 10 m (x) x 3.5 m (y) x 8 m (z), x in
     [-5, 5], y in [0, 3.5], z in [-4, 4]. A flat wall mirror (x = -5), a chrome ball (convex), a
     concave dish on the east wall, a mirror floor, a partition, one local probe over the hall and
-    the CMOs speculum-probes place chose; three collectibles (`collectible.N`, extras
+    the CMOs speculum-probes place chose, planar probes on the two flat mirrors; three collectibles (`collectible.N`, extras
     speculum_hidden_primary: seen only in reflections, engine/scene/EXTENSIONS.md)."""
     g = Gltf("hall_of_mirrors")
     W, H, D = 5.0, 3.5, 4.0
@@ -258,6 +258,18 @@ def build_hall_of_mirrors():
     g.box_probe("reflection_probe.hall", (0.0, H / 2, 0.0), [W, H / 2, D], 0.25, 128)
     # The CMOs speculum-probes place chose for the curved mirrors (assets/placement/hall_of_mirrors.*).
     add_placed_cmos(g)
+    # Planar probes on the two flat mirrors (the large flat reflectors the placement tool proposes
+    # planar probes for; placed by hand here, on the glass: issue 24). Their mirrored views draw
+    # the gems (planar.cpp: a reflection, not the primary view), so a gem shows in the wall mirror
+    # wherever screen space would have hit the wall behind it, and the floor mirror stops showing
+    # screen space's staircases under the partition and the ball (2026-12-07, stop 60,
+    # sample_game/README.md). Cost: each renders only the texels its rectangle covers on screen
+    # (probes.planar_crop); the game at 480x270 with low measured 15.9 fps against 15.2 without
+    # (medians of four runs each). The wall mirror: local +Y its normal (+x), local x along its
+    # 4 m (z), local z down its 2.4 m. The floor mirror: 8 x 7 m, 4 mm up.
+    upright = quat_mul(quat_axis_angle((0, 1, 0), 90.0), quat_axis_angle((1, 0, 0), 90.0))
+    g.probe("planar.mirror_west", (-W + 0.05, 1.5, -1.5), rotation=upright, kind=KIND.planar, extents=[2.0, 1.2])
+    g.probe("planar.floor_mirror", (0.0, 0.004, 0.0), kind=KIND.planar, extents=[4.0, 3.5])
     # The player starts by the west wall, south of the wall mirror, facing the ball.
     g.camera("main", (-3.5, 1.6, 0.3), (1.5, 0.9, -1.0))
     g.camera("overview", (4.5, 3.0, 3.5), (-1.0, 0.5, -1.5))
