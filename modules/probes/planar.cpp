@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <vector>
 
 namespace speculum::probes {
 namespace {
@@ -24,11 +23,6 @@ constexpr float kClipOffset = 0.002f;
 // normal map's bumps) and its position within 1 cm (plus 0.2% of its distance, planar.glsl).
 constexpr float kNormalTolerance = 0.95f;
 constexpr float kDistanceTolerance = 0.01f;
-// The mirrored view renders only the texels its rectangle covers on screen (planarFootprint)
-// and this many around them: the widest lobe it serves (roughness 0.3, planarShare) reads a box
-// mip of about 23 texels at the default half height, so a glossy pixel at the mirror's screen
-// edge reads within 12 of it what the whole image would have held there.
-constexpr uint32_t kCropMargin = 12;
 
 struct StorePush {
     glm::mat4 invViewProj;
@@ -156,25 +150,26 @@ TexelRect planarFootprint(const glm::mat4& viewProj, const PlanarInfo& info, uin
                           uint32_t margin) {
     const glm::dmat4 vp(viewProj);
     const glm::dvec3 o(info.origin), x(info.axisX * info.probe.extents.x), z(info.axisZ * info.probe.extents.y);
-    std::vector<glm::dvec4> poly;
-    for (glm::dvec2 c : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)})
-        poly.push_back(vp * glm::dvec4(o + c.x * x + c.y * z, 1.0));
+    const glm::dvec4 corners[4] = {vp * glm::dvec4(o - x - z, 1.0), vp * glm::dvec4(o + x - z, 1.0),
+                                   vp * glm::dvec4(o + x + z, 1.0), vp * glm::dvec4(o - x + z, 1.0)};
     // Clipped at the near plane (reversed-Z: z <= w in front of it; there w >= znear > 0), so
-    // a floor running under the camera projects to the screen's edge, not through infinity.
-    std::vector<glm::dvec4> kept;
-    for (size_t i = 0; i < poly.size(); ++i) {
-        const glm::dvec4 &a = poly[i], &b = poly[(i + 1) % poly.size()];
-        const double fa = a.w - a.z, fb = b.w - b.z;
-        if (fa >= 0.0) kept.push_back(a);
-        if ((fa >= 0.0) != (fb >= 0.0)) kept.push_back(a + (b - a) * (fa / (fa - fb)));
-    }
-    if (kept.empty()) return {};
+    // a floor running under the camera projects to the screen's edge, not through infinity. The
+    // clipped polygon's points widen the bounds as they come.
     glm::dvec2 lo(1e30), hi(-1e30);
-    for (const glm::dvec4& c : kept) {
+    bool any = false;
+    auto add = [&](const glm::dvec4& c) {
         const glm::dvec2 uv = glm::dvec2(c) / std::max(c.w, 1e-12) * 0.5 + 0.5;
         lo = glm::min(lo, uv);
         hi = glm::max(hi, uv);
+        any = true;
+    };
+    for (size_t i = 0; i < 4; ++i) {
+        const glm::dvec4 &a = corners[i], &b = corners[(i + 1) % 4];
+        const double fa = a.w - a.z, fb = b.w - b.z;
+        if (fa >= 0.0) add(a);
+        if ((fa >= 0.0) != (fb >= 0.0)) add(a + (b - a) * (fa / (fa - fb)));
     }
+    if (!any) return {};
     const glm::dvec2 size(width, height), m(margin);
     const glm::dvec2 a = glm::clamp(glm::floor(lo * size) - m, glm::dvec2(0.0), size);
     const glm::dvec2 b = glm::clamp(glm::ceil(hi * size) + m, glm::dvec2(0.0), size);
@@ -412,7 +407,7 @@ void Probes::renderPlanar(const render::FrameInputs& view, int interval) {
         // Only what its rectangle covers on screen: a mirror a tenth of the view costs a tenth
         // of the view; one off screen, nothing. Texel for texel the image holds what the whole
         // mirrored view would (cropCamera keeps each texel's ray), the rest of the layer is stale.
-        const TexelRect rect = m.settings.planarCrop ? planarFootprint(cam.viewProj, info, w, h, kCropMargin)
+        const TexelRect rect = m.settings.planarCrop ? planarFootprint(cam.viewProj, info, w, h, kPlanarCropMargin)
                                                      : TexelRect{0, 0, w, h};
         render::FrameInputs mirrored;
         render::CameraState full;

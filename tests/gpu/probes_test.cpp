@@ -21,6 +21,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <random>
 
 using namespace speculum;
@@ -38,9 +39,10 @@ Scene loadAsset(const std::string& name) {
     return loadScene(assetPath("assets/scenes/" + name + ".gltf"));
 }
 
-int firstProbeNode(const Scene& scene) {
+// The first probe node, of `kind` where one is given.
+int firstProbeNode(const Scene& scene, std::optional<ProbeKind> kind = std::nullopt) {
     for (size_t i = 0; i < scene.nodes.size(); ++i)
-        if (scene.nodes[i].probe) return int(i);
+        if (scene.nodes[i].probe && (!kind || scene.nodes[i].probe->kind == *kind)) return int(i);
     return -1;
 }
 
@@ -852,12 +854,12 @@ TEST_F(ProbesGpu, PlanarProbeShowsWhatThePrimaryViewHides) {
 TEST_F(ProbesGpu, PlanarCropGivesTheWholeViewsReflection) {
     const uint32_t w = 160, h = 90;
     Scene scene = loadAsset("gallery");
-    int node = -1;
-    for (size_t i = 0; i < scene.nodes.size(); ++i)
-        if (scene.nodes[i].probe && scene.nodes[i].probe->kind == ProbeKind::Planar) node = int(i);
+    const int node = firstProbeNode(scene, ProbeKind::Planar);
     ASSERT_GE(node, 0);
-    const probes::TexelRect rect = probes::planarFootprint(render::makeCamera(*scene.findCamera("main"), w, h).viewProj,
-                                                           probes::describePlanar(scene, node), w / 2, h / 2, 12);
+    // The planar image is half the view's height (probes.planar_scale's default).
+    const probes::TexelRect rect =
+        probes::planarFootprint(render::makeCamera(*scene.findCamera("main"), w, h).viewProj,
+                                probes::describePlanar(scene, node), w / 2, h / 2, probes::kPlanarCropMargin);
     ASSERT_GT(rect.y0, 0u) << "the floor's crop is the whole image";
     std::vector<float> images[2];
     for (int crop = 0; crop < 2; ++crop) {

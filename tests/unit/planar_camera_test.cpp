@@ -227,7 +227,7 @@ TEST(PlanarCamera, FootprintIsTheRectanglesTexelsOnScreen) {
     const TexelRect under = planarFootprint(view.viewProj, floor, w, h, 0);
     EXPECT_EQ(under.x0, 0u);
     EXPECT_EQ(under.x1, w);
-    EXPECT_EQ(under.y1 - under.y0 > h / 3, true);
+    EXPECT_GT(under.y1 - under.y0, h / 3);
     // A strip on the floor right of the view's axis, from behind the camera to 3 m ahead: its
     // part in front lies in the right half of the image. Its corners behind the camera,
     // projected without the near plane's clip, would land on the left.

@@ -142,6 +142,10 @@ struct TexelRect {
 // at its own screen position (a bumped or glossy one around it), so only these texels are read.
 TexelRect planarFootprint(const glm::mat4& viewProj, const PlanarInfo& info, uint32_t width, uint32_t height,
                           uint32_t margin);
+// The margin renderPlanar grows a footprint by: the widest lobe a planar probe serves (roughness
+// 0.3, planarShare) reads a box mip of about 23 texels at the default half height, so a glossy
+// pixel at the mirror's screen edge reads within 12 of it what the whole image would hold there.
+inline constexpr uint32_t kPlanarCropMargin = 12;
 // `camera`, whose image is width x height, restricted to `rect` of that image: its projection
 // cropped (an off-axis window) so that the rect fills the returned camera's own image, each
 // texel seeing along the same ray as the full camera's texel there.
