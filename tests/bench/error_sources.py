@@ -2,13 +2,15 @@
 """Where a view's mirror-band error comes from (issue 24): the share of its squared error by the
 method that answered each pixel, and for screen-space pixels by what the hit landed on.
 
-    error_sources.py --capture BIN --view SCENE.CAMERA [--size WxH] [--scene FILE] [--set KEY=VALUE]... [--out DIR] [--blocks N]
+    error_sources.py --capture BIN --view SCENE.CAMERA [--size WxH] [--bounces N] [--scene FILE] [--set KEY=VALUE]... [--out DIR] [--blocks N]
 
 It captures the view at its converged reference's size (assets/references, tests/reference/README.md;
-`--size` picks one where the view has several, by default the smallest)
+`--size` picks one where the view has several, by default the smallest; `--bounces` its depth, by
+default the bounce-converged 4 where the view has it, else 2)
 with the reflection, method and hit AOVs after 8 warm-up frames, and scores the mirror band as
 the bench does (reflective in the reference, the reference's reflection roughness below 0.3,
-converged pixels only, clamped after the scene's exposure). Classes: the method whose weight is above one
+converged pixels only, as speculum-metrics cuts them: the reference's standard error, already in
+display units, at most the entry's max_reference_error; clamped after the scene's exposure). Classes: the method whose weight is above one
 half (`ssr`, `cmo`, `probe` for local and planar probes, `env` for the sky, else `mix`), and for
 `ssr` the surface at the hit pixel: `hit-mirror` (reflective, roughness below 0.3: a mirror seen in
 a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`. A second table splits the method by
@@ -30,6 +32,8 @@ HERE = Path(__file__).resolve().parent
 SOURCE = HERE.parents[1]
 sys.path.insert(0, str(HERE.parent / "capture"))
 from stripes_test import load  # noqa: E402
+sys.path.insert(0, str(HERE.parent / "reference"))
+import store  # noqa: E402
 
 MIRROR = 0.3
 
@@ -41,18 +45,23 @@ def main():
     ap.add_argument("--scene", help="the scene file to capture (default assets/scenes/SCENE.gltf): a variant of the "
                     "view's scene, say with other probes, scored against the same reference")
     ap.add_argument("--size", help="WxH: the converged reference's size, where the view has several")
+    ap.add_argument("--bounces", type=int, help="the reference's bounces (default 4 where the view has it, else 2)")
     ap.add_argument("--set", action="append", default=[])
     ap.add_argument("--out")
     ap.add_argument("--blocks", type=int, default=6)
     a = ap.parse_args()
     scene, camera = a.view.split(".", 1)
-    refs = sorted((SOURCE / "assets" / "references").glob(f"{scene}.{camera}.{a.size or '*'}.*"),
-                  key=lambda d: int(d.name.split(".")[-2].split("x")[0]))
+    def entries(bounces):
+        return sorted((SOURCE / "assets" / "references").glob(f"{scene}.{camera}.{a.size or '*'}.b{bounces}"),
+                      key=lambda d: int(d.name.split(".")[-2].split("x")[0]))
+    refs = entries(a.bounces) if a.bounces else (entries(4) or entries(2))
     if not refs:
-        sys.exit(f"error_sources.py: no converged reference for {a.view}{' at ' + a.size if a.size else ''} in assets/references")
+        sys.exit(f"error_sources.py: no converged reference for {a.view}{' at ' + a.size if a.size else ''}"
+                 f"{f' with {a.bounces} bounces' if a.bounces else ''} in assets/references")
     ref_dir = refs[0]
     info = json.loads((ref_dir / "reference.json").read_text())
     w, h, scale = info["width"], info["height"], info["exposure"]
+    cut = store.max_reference_error(ref_dir) or 0.01  # speculum-metrics' default, kMaxReferenceError
     out = Path(a.out or tempfile.mkdtemp(prefix="error-sources-"))
     cmd = [a.capture, "--scene", a.scene or str(SOURCE / "assets" / "scenes" / f"{scene}.gltf"), "--camera", camera,
            "--size", f"{w}x{h}", "--warmup", "8", "--aov", "reflection,method,hit", "--out", str(out)]
@@ -81,7 +90,7 @@ def main():
     roughBand = [0.0, 0]  # the rough band's squared error and pixels, for its one line
     for y in range(h):
         for x in range(w):
-            if refl[y][x] <= 0.5 or err[y][x] * scale > 0.01:
+            if refl[y][x] <= 0.5 or not (0.0 <= err[y][x] <= cut):
                 continue
             if rough[y][x] >= MIRROR:
                 roughBand[0] += sum((clamp(T[c][y][x]) - clamp(R[c][y][x])) ** 2 for c in "RGB") / 3
@@ -110,7 +119,8 @@ def main():
         sys.exit(f"error_sources.py: {a.view} has no converged mirror-band pixels")
     db = lambda s, n: 10 * math.log10(n / s) if s > 0 else float("inf")
     print(f"{a.view} {' '.join(a.set)}: mirror band {db(*total):.2f} dB on {total[1]} px, rough band "
-          f"{db(*roughBand) if roughBand[1] else float('nan'):.2f} dB on {roughBand[1]} px (capture in {out})")
+          f"{db(*roughBand) if roughBand[1] else float('nan'):.2f} dB on {roughBand[1]} px against {ref_dir.name} "
+          f"(capture in {out})")
     print("| class | pixels | share of squared error | PSNR dB |\n|---|---|---|---|")
     for k, (s, n) in sorted(classes.items(), key=lambda kv: -kv[1][0]):
         print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} |")
