@@ -7,7 +7,7 @@
 // this term out for them (kFlagReflective), as it does when the reflections module runs.
 // A ray that meets a planar probe's plane from above before the probes' proxy reads the plane's
 // ground there (probe.h, PlanarGround): the floor under an object standing on it, which the
-// cube's capture point cannot see past the object.
+// cube's capture point cannot see past the object; a metal floor's reflects the ray (metalGround).
 #define PROBES_BUFFER_BINDING 6
 #define PROBES_CUBES_BINDING 7
 #define PROBES_DISTANCE_BINDING 12
@@ -36,6 +36,35 @@ layout(push_constant) uniform Push {
     uvec4 info;  // xy face size, z probe count (0 on the first bake), w ground count
 } pc;
 
+// A mirror ray that meets a metal floor's ground (ground_store.comp's marker: rgb F0, a -1 minus
+// the floor's roughness) reflects off the floor and reads the probes from there, times its F0.
+// The cube holds a metal floor as its capture point saw it, reflecting what lies above toward
+// the capture point, and under an object standing on the floor it holds the object: a chrome
+// sphere standing on the gallery's metal mirror floor showed the sky's blue on its underside, in
+// the floor's planar image, where light reflects between floor and sphere (the bounce-converged
+// reference shows chrome there; one traced 2 bounces deep shows the split-sum sky, blue too).
+// Mirror band against the 4-bounce references: gallery.main 22.27 -> 24.90, floor_grazing
+// 21.96 -> 22.52, the rest unchanged (modules/reflections/MEASUREMENTS.md, stop 61). Floors only
+// (the plane's normal within 26 degrees of up), where the reflected ray leaves upward into the
+// room: on mirror_hall's wall mirror, which faces another across the corridor, the reflected
+// ray reads the cube at the facing mirror, whose captured reflection is as wrong for it, and the
+// hall lost 4-4.6 dB (a captured mirror's own reflection is the closer guess there).
+bool metalGround(vec3 p, vec3 r, float roughness, float proxy, out vec3 radiance) {
+    radiance = vec3(0.0);
+    vec3 planeNormal;
+    float t;
+    vec4 g = groundTexel(pc.info.w, p, r, roughness, proxy > 0.0 ? proxy + 0.02 : 1e30, planeNormal, t);
+    if (!(g.a <= -1.0 && roughness < kNarrowLobeMaxRoughness - 0.1 && planeNormal.y >= 0.9)) return false;
+    vec3 q = p + r * t + planeNormal * 0.01;
+    vec3 r2 = reflect(r, planeNormal);
+    float rough2 = max(roughness, -g.a - 1.0);
+    float proxy2;
+    vec3 skyDir;
+    vec4 probe = sampleProbes(pc.info.z, q, planeNormal, r2, rough2, proxy2, skyDir);
+    radiance = g.rgb * (probe.rgb + (1.0 - probe.a) * textureLod(envSpecular, skyDir, rough2 * pc.eye.w).rgb);
+    return true;
+}
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.info.xy))) return;
@@ -53,8 +82,11 @@ void main() {
         vec3 skyDir;
         vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy, skyDir);
         vec3 sky = textureLod(envSpecular, skyDir, nr.w * pc.eye.w).rgb;
-        probe = groundOverProbes(pc.info.w, p, r, nr.w, probe, proxy);
-        vec3 radiance = probe.rgb + (1.0 - probe.a) * sky;
+        vec3 radiance;
+        if (!metalGround(p, r, nr.w, proxy, radiance)) {
+            probe = groundOverProbes(pc.info.w, p, r, nr.w, probe, proxy);
+            radiance = probe.rgb + (1.0 - probe.a) * sky;
+        }
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec2 dfg = textureLod(dfgTex, vec2(clamp(dot(n, v), 0.0, 1.0), nr.w), 0.0).rg;
         color += radiance * (specularF0(albedo.rgb, albedo.a) * dfg.x + dfg.y);

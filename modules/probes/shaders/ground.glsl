@@ -17,14 +17,20 @@ layout(set = 0, binding = GROUND_BUFFER_BINDING, std430) readonly buffer GroundB
 };
 layout(set = 0, binding = GROUND_IMAGES_BINDING) uniform sampler2DArray groundImages;  // trilinear clamp
 
-// The ground that ray p + t r meets from above, at most `limit` away, at its cone's footprint:
-// rgb premultiplied by the coverage in a (0: no ground there).
-vec4 sampleGround(uint count, vec3 p, vec3 r, float roughness, float limit) {
+// The ground texel that ray p + t r meets from above, at most `limit` away, at its cone's
+// footprint, with the plane's normal and the ray's t there: rgb premultiplied by the coverage in
+// a (0: no ground there), or a metal's marker (a <= -1: ground_store.comp; capture_bounce's
+// metalGround reflects the ray there).
+vec4 groundTexel(uint count, vec3 p, vec3 r, float roughness, float limit, out vec3 planeNormal, out float tHit) {
+    planeNormal = vec3(0.0, 1.0, 0.0);
+    tHit = 0.0;
     for (uint i = 0u; i < count; ++i) {
         PlanarGround g = grounds[i];
         float above = dot(g.plane.xyz, p) + g.plane.w, toward = -dot(g.plane.xyz, r);
         if (above <= 0.0 || toward <= 0.0 || above > limit * toward) continue;
         float t = above / toward;
+        planeNormal = g.plane.xyz;
+        tHit = t;
         vec4 c = g.viewProj * vec4(p + r * t, 1.0);
         vec2 uv = c.xy / c.w * 0.5 + 0.5;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
@@ -36,6 +42,14 @@ vec4 sampleGround(uint count, vec3 p, vec3 r, float roughness, float limit) {
         return textureLod(groundImages, vec3(uv, g.params.x), lod);
     }
     return vec4(0.0);
+}
+
+// The ground that ray p + t r meets from above (groundTexel), a metal's marker as no coverage.
+vec4 sampleGround(uint count, vec3 p, vec3 r, float roughness, float limit) {
+    vec3 planeNormal;
+    float t;
+    vec4 g = groundTexel(count, p, r, roughness, limit, planeNormal, t);
+    return g.a > 0.0 ? g : vec4(0.0);
 }
 
 // The ground over the probes' blend (probes.glsl's sampleProbes: rgb premultiplied, a coverage)

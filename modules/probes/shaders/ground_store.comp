@@ -3,10 +3,10 @@
 // probes.ground_store: a planar probe's ground (probe.h, PlanarGround) from its orthographic view
 // straight down: rgb the lit surface with its specular ambient (probes.capture_bounce) less its
 // direct specular, premultiplied by a coverage that is 1 where the texel sees a dielectric surface
-// lying in the plane (its normal within the planar probe's 18 degrees) and 0 elsewhere: metals,
-// the sky, and the tops of the objects that stand on the plane and reach into the view's 2 cm
-// slab around it. A
-// lookup gives the uncovered share to the probes' proxy, as a cube's alpha does (probes.glsl).
+// lying in the plane (its normal within the planar probe's 18 degrees), a metal's marker where a
+// metal lies in it (below), and 0 elsewhere: the sky, and the tops of the objects that stand on
+// the plane and reach into the view's 2 cm slab around it. A lookup gives the uncovered share to
+// the probes' proxy, as a cube's alpha does (probes.glsl).
 //
 // The direct specular goes because it belongs to the view straight down: a lamp's highlight lies
 // under the lamp there, and a ray meeting the floor at another angle sees it elsewhere or not at
@@ -64,9 +64,14 @@ void main() {
     // above, the gallery's mirror floor showed the sky (the first bake's) where the concave
     // mirror's rays met it, and its share of gross errors rose from 2.7% to 6.7% of the view's
     // pixels. The probes' capture of a metal floor is no better a guess but no worse, so a metal
-    // leaves the ground's coverage to them; a dielectric floor is mostly its diffuse light.
-    bool onPlane = depth > 0.0 && face.a > 0.0 && dot(n, pc.plane.xyz) >= pc.params.x && albedo.a < 0.5;
+    // leaves the ground's coverage to them; a dielectric floor is mostly its diffuse light. A
+    // metal's texel holds its F0 instead, marked by a coverage of -1 minus its roughness: on a
+    // floor, probes.capture_bounce reflects the ray off it (metalGround). Box mips average a marker with its neighbours; only a texel at -1 or below
+    // (metal throughout) counts as one, a mixed one as no coverage.
+    bool inPlane = depth > 0.0 && face.a > 0.0 && dot(n, pc.plane.xyz) >= pc.params.x;
+    bool onPlane = inPlane && albedo.a < 0.5;
     vec4 result = vec4(0.0);
+    if (inPlane && !onPlane) result = vec4(specularF0(albedo.rgb, albedo.a), -1.0 - nr.w);
     if (onPlane) {
         vec2 uv = pixelCenterUV(pixel, ivec2(pc.info.xy));
         vec3 p = worldFromDepth(uv, depth, pc.invViewProj);
