@@ -103,11 +103,14 @@ def render_reference(tools, view, size, settings, cache):
         # The store's entry at this size or at a whole fraction of it (960x540 is scored at the
         # 320x180 entry's pixel centres; camera paths have 160x90 entries for 480x270 runs).
         bounces = settings.get("path_bounces", settings["bounces"]) if "path" in view else settings["bounces"]
-        # A list: the deepest first, each tried in turn (the accuracy tests' [4, 2]).
+        # A list: the deepest first, the next only where the store has no entry at all (a stale
+        # one stops the bench: it never falls back past a reference that should be rendered again).
         for bounces in bounces if isinstance(bounces, list) else [bounces]:
             folder, why = store.lookup(view["scene"], view.get("camera"), size, bounces, path=view.get("path"))
             if folder is not None:
                 return folder, True
+            if not why.startswith("no converged reference"):
+                break
         if settings.get("render_missing") and "camera" in view:
             return render_converged(tools, view, size, bounces, cache)
         if "fallback" not in settings:
