@@ -109,7 +109,7 @@ def render_reference(tools, view, size, settings, cache):
             folder, why = store.lookup(view["scene"], view.get("camera"), size, bounces, path=view.get("path"))
             if folder is not None:
                 return folder, True
-            if not why.startswith("no converged reference"):
+            if not why.startswith(store.MISSING):
                 break
         if settings.get("render_missing") and "camera" in view:
             return render_converged(tools, view, size, bounces, cache)

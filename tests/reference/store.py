@@ -178,6 +178,10 @@ def status(e, settings):
     return ("fresh" if recorded == key(e, settings) else "stale"), folder
 
 
+# How lookup's `why` starts when the store has no entry for the view at all (not a stale one).
+MISSING = "no converged reference"
+
+
 def lookup(scene, camera, size, bounces, path=None):
     """(folder, why): the fresh entry for this view (a camera, or with path= a camera path file
     relative to the source tree) at `size`, or at a size a whole k times smaller (960x540 ->
@@ -197,7 +201,7 @@ def lookup(scene, camera, size, bounces, path=None):
         if state == "fresh":
             return folder, None
         return None, f"the converged reference {entry_name(e)} is {state}; regenerate it: {REGENERATE} --only {entry_name(e)}"
-    return None, (f"no converged reference for {scene}.{label} at {size} or a whole fraction of it "
+    return None, (f"{MISSING} for {scene}.{label} at {size} or a whole fraction of it "
                   f"with {bounces} bounces: add it to {MANIFEST.relative_to(SOURCE)} and run {REGENERATE}")
 
 

@@ -36,8 +36,9 @@ layout(push_constant) uniform Push {
     uvec4 info;  // xy face size, z probe count (0 on the first bake), w ground count
 } pc;
 
-// A mirror ray that meets a metal floor's ground (ground_store.comp's marker: rgb F0, a -1 minus
-// the floor's roughness) reflects off the floor and reads the probes from there, times its F0.
+// A mirror ray r that meets a metal floor's ground (g, groundTexel's at `hit`: ground_store.comp's
+// marker, rgb F0, a -1 minus the floor's roughness) reflects off the floor and reads the probes
+// from there, times its F0; false (radiance unset) for any other ground.
 // The cube holds a metal floor as its capture point saw it, reflecting what lies above toward
 // the capture point, and under an object standing on the floor it holds the object: a chrome
 // sphere standing on the gallery's metal mirror floor showed the sky's blue on its underside, in
@@ -49,13 +50,10 @@ layout(push_constant) uniform Push {
 // room: on mirror_hall's wall mirror, which faces another across the corridor, the reflected
 // ray reads the cube at the facing mirror, whose captured reflection is as wrong for it, and the
 // hall lost 4-4.6 dB (a captured mirror's own reflection is the closer guess there).
-bool metalGround(vec3 p, vec3 r, float roughness, float proxy, out vec3 radiance) {
+bool metalGround(vec4 g, vec3 planeNormal, vec3 hit, vec3 r, float roughness, out vec3 radiance) {
     radiance = vec3(0.0);
-    vec3 planeNormal;
-    float t;
-    vec4 g = groundTexel(pc.info.w, p, r, roughness, proxy > 0.0 ? proxy + 0.02 : 1e30, planeNormal, t);
     if (!(g.a <= -1.0 && roughness < kNarrowLobeMaxRoughness - 0.1 && planeNormal.y >= 0.9)) return false;
-    vec3 q = p + r * t + planeNormal * 0.01;
+    vec3 q = hit + planeNormal * 0.01;
     vec3 r2 = reflect(r, planeNormal);
     float rough2 = max(roughness, -g.a - 1.0);
     float proxy2;
@@ -82,9 +80,14 @@ void main() {
         vec3 skyDir;
         vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy, skyDir);
         vec3 sky = textureLod(envSpecular, skyDir, nr.w * pc.eye.w).rgb;
+        // The ground the ray meets, fetched once: a metal floor's reflects the ray, any other
+        // lies over the probes.
+        vec3 planeNormal;
+        float t;
+        vec4 ground = groundTexel(pc.info.w, p, r, nr.w, groundLimit(proxy), planeNormal, t);
         vec3 radiance;
-        if (!metalGround(p, r, nr.w, proxy, radiance)) {
-            probe = groundOverProbes(pc.info.w, p, r, nr.w, probe, proxy);
+        if (!metalGround(ground, planeNormal, p + r * t, r, nr.w, radiance)) {
+            probe = groundOver(ground, nr.w, probe);
             radiance = probe.rgb + (1.0 - probe.a) * sky;
         }
         vec4 albedo = texelFetch(albedoTex, pixel, 0);

@@ -44,28 +44,35 @@ vec4 groundTexel(uint count, vec3 p, vec3 r, float roughness, float limit, out v
     return vec4(0.0);
 }
 
-// The ground that ray p + t r meets from above (groundTexel), a metal's marker as no coverage.
-vec4 sampleGround(uint count, vec3 p, vec3 r, float roughness, float limit) {
-    vec3 planeNormal;
-    float t;
-    vec4 g = groundTexel(count, p, r, roughness, limit, planeNormal, t);
-    return g.a > 0.0 ? g : vec4(0.0);
+// How far a ground may lie along the ray: no farther than the probes' proxy (a box's floor on
+// the plane meets the ray at the same t, a wall first hides it), with 2 cm of slack for the two
+// intersections' rounding; with no probe at p (proxyDistance 0), anywhere.
+float groundLimit(float proxyDistance) {
+    return proxyDistance > 0.0 ? proxyDistance + 0.02 : 1e30;
 }
 
-// The ground over the probes' blend (probes.glsl's sampleProbes: rgb premultiplied, a coverage)
-// for a lobe of `roughness`, where it lies no farther than their proxy: a box's floor on the
-// plane meets the ray at the same t, a wall first hides it; 2 cm of slack for the two
-// intersections' rounding. With no probe at p (proxyDistance 0), wherever the ray meets it.
+// Narrow lobes only, as the planar image (planarShare): all up to roughness 0.2, none from 0.3.
+// One lookup at the mirror ray's point stands in for a lobe only while the lobe is narrow;
+// serving every roughness cost gallery.main's rough band 1.3 dB (19.20 -> 17.88), where the
+// walls' wide lobes take the floor's average for the whole hemisphere. Up to 0.5 scored the same
+// as 0.3.
+float groundShare(float roughness) {
+    return clamp((kNarrowLobeMaxRoughness - roughness) / 0.1, 0.0, 1.0);
+}
+
+// A ground texel (groundTexel; a metal's marker counts as no coverage) over the probes' blend
+// (probes.glsl's sampleProbes: rgb premultiplied, a coverage) for a lobe of `roughness`.
+vec4 groundOver(vec4 ground, float roughness, vec4 probe) {
+    vec4 g = (ground.a > 0.0 ? ground : vec4(0.0)) * groundShare(roughness);
+    return g + (1.0 - g.a) * probe;
+}
+
+// The ground that ray p + t r meets over the probes' blend, where it lies within groundLimit.
 vec4 groundOverProbes(uint count, vec3 p, vec3 r, float roughness, vec4 probe, float proxyDistance) {
-    // Narrow lobes only, as the planar image (planarShare): all up to roughness 0.2, none from
-    // 0.3. One lookup at the mirror ray's point stands in for a lobe only while the lobe is
-    // narrow; serving every roughness cost gallery.main's rough band 1.3 dB (19.20 -> 17.88),
-    // where the walls' wide lobes take the floor's average for the whole hemisphere. Up to 0.5
-    // scored the same as 0.3.
-    float share = clamp((kNarrowLobeMaxRoughness - roughness) / 0.1, 0.0, 1.0);
-    if (count == 0u || share <= 0.0) return probe;
-    vec4 ground = sampleGround(count, p, r, roughness, proxyDistance > 0.0 ? proxyDistance + 0.02 : 1e30) * share;
-    return ground + (1.0 - ground.a) * probe;
+    if (count == 0u || groundShare(roughness) <= 0.0) return probe;
+    vec3 planeNormal;
+    float t;
+    return groundOver(groundTexel(count, p, r, roughness, groundLimit(proxyDistance), planeNormal, t), roughness, probe);
 }
 
 #endif
