@@ -82,10 +82,12 @@ def main():
     classes, blocks, total = {}, {}, [0.0, 0]
     bands = {}  # (method, roughness tenth): squared error, pixels, our level, the reference's
 
-    def add(table, key, se):
-        c = table.setdefault(key, [0.0, 0])
+    def add(table, key, se, ours=0.0, ref=0.0):
+        c = table.setdefault(key, [0.0, 0, 0.0, 0.0])
         c[0] += se
         c[1] += 1
+        c[2] += ours
+        c[3] += ref
 
     roughBand = [0.0, 0]  # the rough band's squared error and pixels, for its one line
     for y in range(h):
@@ -106,7 +108,7 @@ def main():
                     key += " hit-mirror" if rough[hy][hx] < MIRROR else " hit-glossy"
                 else:
                     key += " hit-diffuse"
-            add(classes, key, se)
+            add(classes, key, se, sum(T[c][y][x] for c in "RGB"), sum(R[c][y][x] for c in "RGB"))
             add(blocks, (x // 32, y // 30), se)
             b = bands.setdefault((key.split()[0], int(rough[y][x] * 10)), [0.0, 0, 0.0, 0.0])
             b[0] += se
@@ -121,9 +123,9 @@ def main():
     print(f"{a.view} {' '.join(a.set)}: mirror band {db(*total):.2f} dB on {total[1]} px, rough band "
           f"{db(*roughBand) if roughBand[1] else float('nan'):.2f} dB on {roughBand[1]} px against {ref_dir.name} "
           f"(capture in {out})")
-    print("| class | pixels | share of squared error | PSNR dB |\n|---|---|---|---|")
-    for k, (s, n) in sorted(classes.items(), key=lambda kv: -kv[1][0]):
-        print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} |")
+    print("| class | pixels | share of squared error | PSNR dB | level (ours / reference) |\n|---|---|---|---|---|")
+    for k, (s, n, ours, ref) in sorted(classes.items(), key=lambda kv: -kv[1][0]):
+        print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} | {ours / ref if ref > 0 else float('nan'):.2f} |")
     # A level far from 1 is a bias, not detail: plain_metals' sky lookups at roughness 0.2-0.3 at
     # 0.45 (its metals reflected the sky's ground where their floor is) are how probes.auto_probe
     # was found; its cone hits there at 0.44 are the cone's missing lobe tail (MEASUREMENTS.md).
@@ -132,7 +134,7 @@ def main():
         print(f"| {k} | {t / 10:.1f}-{(t + 1) / 10:.1f} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} | "
               f"{ours / ref if ref > 0 else float('nan'):.2f} |")
     print(f"\nblocks (32x30) with the most error:")
-    for (bx, by), (s, n) in sorted(blocks.items(), key=lambda kv: -kv[1][0])[:a.blocks]:
+    for (bx, by), (s, n, _, _) in sorted(blocks.items(), key=lambda kv: -kv[1][0])[:a.blocks]:
         print(f"  x {bx * 32}-{bx * 32 + 31}, y {by * 30}-{by * 30 + 29}: {n} px, {100 * s / total[0]:.1f}%")
 
 
