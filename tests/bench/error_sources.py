@@ -13,7 +13,7 @@ converged pixels only, as speculum-metrics cuts them: the reference's standard e
 display units, at most the entry's max_reference_error; clamped after the scene's exposure). Classes: the method whose weight is above one
 half (`ssr`, `cmo`, `probe` for local and planar probes, `env` for the sky, else `mix`), and for
 `ssr` the surface at the hit pixel: `hit-mirror` (reflective, roughness below 0.3: a mirror seen in
-a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`. A second table splits the method by
+a mirror), `hit-glossy` (reflective, rougher), `hit-diffuse`, each with its level (as below). A second table splits the method by
 reflection roughness in tenths, with the level of our reflection against the reference's (sum of
 ours over sum of theirs: a bias shows as a level far from 1). The N 32x30 blocks with the most
 error close the tables. The first line also gives the rough band's PSNR (a change made for the
@@ -128,7 +128,8 @@ def main():
         print(f"| {k} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} | {ours / ref if ref > 0 else float('nan'):.2f} |")
     # A level far from 1 is a bias, not detail: plain_metals' sky lookups at roughness 0.2-0.3 at
     # 0.45 (its metals reflected the sky's ground where their floor is) are how probes.auto_probe
-    # was found; its cone hits there at 0.44 are the cone's missing lobe tail (MEASUREMENTS.md).
+    # was found; its cone hits there at 0.44 were the cone's missing lobe tail, which
+    # resolve.comp's kConeTailShare now leaves to the chain (MEASUREMENTS.md, stop 62).
     print("\n| method | roughness | pixels | share | PSNR dB | level (ours / reference) |\n|---|---|---|---|---|---|")
     for (k, t), (s, n, ours, ref) in sorted(bands.items()):
         print(f"| {k} | {t / 10:.1f}-{(t + 1) / 10:.1f} | {n} | {100 * s / total[0]:.1f}% | {db(s, n):.2f} | "

@@ -68,20 +68,20 @@ layout(constant_id = 301) const uint kStochastic = 0u;
 
 // The share of a glossy lobe that the cone leaves to the chain (the local probes' and the sky's
 // lookups prefiltered at the pixel's roughness), however much of the cone screen space covers.
-// The cone (brdf.glsl's Phong fit, cut where the lobe falls to 0.244) holds the GGX lobe's core;
-// GGX's long tail does not fit a cone: sampling it puts half its half vectors beyond atan(alpha)
-// (tan^2 theta = alpha^2 xi / (1 - xi)), so half its reflected directions beyond 1.7 times the
-// cone's half-angle (1.19 alpha) and 74% of them outside the cone, and where they leave the screen-space surface (a wall's top edge
-// with the sky above it, in a metal's glossy top) the cone returned the wall alone: plain_metals'
-// roughness 0.2-0.3 pixels at 0.45 times the reference's level. The cone's mips blur past its edge,
-// so the best share is below 74%: mirror band, 4-bounce references (error_sources.py), share
-// 0 / 0.15 / 0.3 / 0.5 / 0.74: plain_metals 23.36 / 25.45 / 26.38 / 24.78 / 21.44 dB (its rough
-// band 17.06 / 17.36 / 17.41 / 17.07 / 16.21), closed_room 23.10 / 23.11 / 23.09 / 22.96 / 22.65;
-// the gallery's rough band 19.58 / 19.97 / 20.31 / 20.61 / 20.76 (modules/reflections/
-// MEASUREMENTS.md, issue 24, stop 62). Faded in from the mirror ray's roughness
-// (kConeMinRoughness) to 0.1, so that the cutoff draws no seam. Only where the chain has a local
-// probe, as mirrorHit's second bounce: without one the tail would be the sky alone, and indoors
-// that is further off than the cone (closed_room.main without probes: mirror band 12.00 -> 9.26).
+// The cone (brdf.glsl's Phong fit, cut where the lobe falls to 0.244, a half-angle of 1.19
+// alpha) holds the GGX lobe's core, not its long tail: sampling GGX puts half its half vectors
+// beyond atan(alpha) (tan^2 theta = alpha^2 xi / (1 - xi)), and 74% of its reflected directions
+// outside the cone. Where they leave the surface screen space hit (a wall's top edge, with the
+// sky above it, in a metal's glossy top) the cone gave the wall alone: plain_metals' roughness
+// 0.2-0.3 pixels at 0.45 times the reference's level. The cone's mips blur past its edge, so the
+// best share is below 74%. Mirror band against the 4-bounce references (error_sources.py) for
+// shares 0 / 0.15 / 0.3 / 0.5 / 0.74: plain_metals 23.36 / 25.45 / 26.38 / 24.78 / 21.44 dB (its
+// rough band 17.06 / 17.36 / 17.41 / 17.07 / 16.21), closed_room 23.10 / 23.11 / 23.09 / 22.96 /
+// 22.65; the gallery's rough band 19.58 / 19.97 / 20.31 / 20.61 / 20.76 (MEASUREMENTS.md, issue
+// 24, stop 62). Faded in from the mirror ray's roughness (kConeMinRoughness) to 0.1, so that the
+// cutoff draws no seam. Only where the chain has a local probe, as mirrorHit's second bounce:
+// without one the tail is the sky alone, which indoors is further off than the cone
+// (closed_room.main without probes: mirror band 12.00 -> 9.26).
 const float kConeTailShare = 0.3;
 float coneTail(float roughness) {
     return rf.probeCount > 0u ? kConeTailShare * smoothstep(kConeMinRoughness, 0.1, roughness) : 0.0;
@@ -272,7 +272,8 @@ void main() {
             float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) *
                           distanceFade(hitDistance) *
                           clamp((m.maxScreenSpace - m.roughness) / 0.1, 0.0, 1.0);
-            coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0) * (1.0 - coneTail(m.roughness));
+            coverage = clamp((rf.coverageMode == 0u ? 1.0 : accumulated) * fades, 0.0, 1.0) *
+                       (1.0 - coneTail(m.roughness));
             // Without multi-bounce the pyramid holds the mirror's bare lit colour, black for a
             // metal: such a hit drew a black sawtooth under the game's chrome sphere. Down the
             // chain instead (+0.02 dB for low without multi-bounce). With multi-bounce the
