@@ -17,8 +17,9 @@ bool inCmoBand(float depth, PixelMaterial m, bool planar) {
            !planar;
 }
 
-// Whether screen space alone covers this pixel (resolve.comp's coverage in `hit` mode is 1):
-// then nothing is left for the CMOs. r: the mirror ray.
+// Whether screen space alone covers this pixel (resolve.comp's coverage in `hit` mode is 1, less
+// a glossy cone's tail, coneTail, which the probes' prefiltered lookups answer: a CMO traces the
+// mirror ray, not a lobe's tail): then nothing is left for the CMOs. r: the mirror ray.
 bool screenCovers(vec4 hit, vec3 p, vec3 r, vec3 v, PixelMaterial m) {
     if (!(hit.z > 0.0) || rf.coverageMode != 0u || !m.screenSpace) return false;
     float fades = edgeFade(hit.xy) * cameraFade(dot(r, v)) * distanceFade(distance(worldAt(hit.xy, hit.z), p)) *
