@@ -102,17 +102,18 @@ def render_reference(tools, view, size, settings, cache):
     if settings.get("converged"):
         # The store's entry at this size or at a whole fraction of it (960x540 is scored at the
         # 320x180 entry's pixel centres; camera paths have 160x90 entries for 480x270 runs).
-        bounces = settings.get("path_bounces", settings["bounces"]) if "path" in view else settings["bounces"]
+        depths = settings.get("path_bounces", settings["bounces"]) if "path" in view else settings["bounces"]
+        depths = depths if isinstance(depths, list) else [depths]
         # A list: the deepest first, the next only where the store has no entry at all (a stale
         # one stops the bench: it never falls back past a reference that should be rendered again).
-        for bounces in bounces if isinstance(bounces, list) else [bounces]:
+        for bounces in depths:
             folder, why = store.lookup(view["scene"], view.get("camera"), size, bounces, path=view.get("path"))
             if folder is not None:
                 return folder, True
             if not why.startswith(store.MISSING):
                 break
         if settings.get("render_missing") and "camera" in view:
-            return render_converged(tools, view, size, bounces, cache)
+            return render_converged(tools, view, size, depths[0], cache)
         if "fallback" not in settings:
             fail(f"{view_name(view)} {size}: {why}", 1)
         settings = settings["fallback"]

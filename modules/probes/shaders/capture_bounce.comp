@@ -79,7 +79,6 @@ void main() {
         float proxy;
         vec3 skyDir;
         vec4 probe = sampleProbes(pc.info.z, p, n, r, nr.w, proxy, skyDir);
-        vec3 sky = textureLod(envSpecular, skyDir, nr.w * pc.eye.w).rgb;
         // The ground the ray meets, fetched once: a metal floor's reflects the ray, any other
         // lies over the probes.
         vec3 planeNormal;
@@ -88,7 +87,7 @@ void main() {
         vec3 radiance;
         if (!metalGround(ground, planeNormal, p + r * t, r, nr.w, radiance)) {
             probe = groundOver(ground, nr.w, probe);
-            radiance = probe.rgb + (1.0 - probe.a) * sky;
+            radiance = probe.rgb + (1.0 - probe.a) * textureLod(envSpecular, skyDir, nr.w * pc.eye.w).rgb;
         }
         vec4 albedo = texelFetch(albedoTex, pixel, 0);
         vec2 dfg = textureLod(dfgTex, vec2(clamp(dot(n, v), 0.0, 1.0), nr.w), 0.0).rg;

@@ -66,12 +66,14 @@ void main() {
     // pixels. The probes' capture of a metal floor is no better a guess but no worse, so a metal
     // leaves the ground's coverage to them; a dielectric floor is mostly its diffuse light. A
     // metal's texel holds its F0 instead, marked by a coverage of -1 minus its roughness: on a
-    // floor, probes.capture_bounce reflects the ray off it (metalGround). Box mips average a marker with its neighbours; only a texel at -1 or below
-    // (metal throughout) counts as one, a mixed one as no coverage.
+    // floor, probes.capture_bounce reflects the ray off it (metalGround). Box mips average a
+    // marker with its neighbours; only a texel at -1 or below (metal throughout) counts as one, a
+    // mixed one as no coverage.
     bool inPlane = depth > 0.0 && face.a > 0.0 && dot(n, pc.plane.xyz) >= pc.params.x;
-    bool onPlane = inPlane && albedo.a < 0.5;
+    bool metal = albedo.a >= 0.5;
+    bool onPlane = inPlane && !metal;
     vec4 result = vec4(0.0);
-    if (inPlane && !onPlane) result = vec4(specularF0(albedo.rgb, albedo.a), -1.0 - nr.w);
+    if (inPlane && metal) result = vec4(specularF0(albedo.rgb, albedo.a), -1.0 - nr.w);
     if (onPlane) {
         vec2 uv = pixelCenterUV(pixel, ivec2(pc.info.xy));
         vec3 p = worldFromDepth(uv, depth, pc.invViewProj);
